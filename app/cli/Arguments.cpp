@@ -1,0 +1,35 @@
+#include "cli/Arguments.h"
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace ambler::cli {
+
+Box2 parseRegion(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    std::size_t used = 0;
+    double d = 0;
+    try {
+      d = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(d))
+      throw std::invalid_argument("region '" + text + "': '" + item + "' is not a number");
+    v.push_back(d);
+  }
+  if (v.size() != 4)
+    throw std::invalid_argument("region '" + text + "' must be XMIN,YMIN,XMAX,YMAX");
+  if (v[2] <= v[0] || v[3] <= v[1])
+    throw std::invalid_argument("region '" + text + "' is empty: need XMIN < XMAX and YMIN < YMAX");
+  return {v[0], v[1], v[2], v[3]};
+}
+
+void printJson(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
+
+}  // namespace ambler::cli

@@ -1,0 +1,16 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/GridSpec.h"
+
+namespace ambler::cli {
+
+// "XMIN,YMIN,XMAX,YMAX" [m]; throws std::invalid_argument naming the problem.
+Box2 parseRegion(const std::string& text);
+
+// Prints `value` as one JSON document on stdout.
+void printJson(const nlohmann::json& value);
+
+}  // namespace ambler::cli

@@ -1,0 +1,160 @@
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "cli/Arguments.h"
+#include "cli/Commands.h"
+#include "core/Resources.h"
+#include "io/Json.h"
+#include "io/Tiff.h"
+#include "sensor/RangeImageFile.h"
+#include "sensor/StriperImageFile.h"
+#include "sim/ObstacleCourse.h"
+#include "sim/ScannerSim.h"
+#include "sim/StriperSim.h"
+
+namespace ambler::cli {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+struct SimScanArgs {
+  std::uint64_t seed = 1;
+  std::string out;
+  std::string config;
+  std::optional<double> tilt_deg, height_m, noise_k;
+  std::optional<int> rows, cols;
+  std::string region;
+  double resolution = 0.05;
+};
+
+sim::ScannerModel scannerModel(const SimScanArgs& a) {
+  auto m = sim::readScannerModel(a.config.empty() ? findResource("config/scanner.json")
+                                                  : std::filesystem::path(a.config));
+  if (a.rows || a.cols) {
+    const double vfov = std::abs(m.geometry.phi_step) * m.geometry.rows;
+    const double hfov = std::abs(m.geometry.theta_step) * m.geometry.cols;
+    m.geometry = sensor::ScanGeometry::symmetric(a.rows.value_or(m.geometry.rows),
+                                                 a.cols.value_or(m.geometry.cols), vfov, hfov);
+  }
+  if (a.tilt_deg) m.tilt = *a.tilt_deg * kDeg;
+  if (a.height_m) m.mount_height = *a.height_m;
+  if (a.noise_k) m.range_sigma_k = *a.noise_k;
+  return m;
+}
+
+void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& dir) {
+  io::writeTiff(dir / "truth_z.tif", truth.height);
+  io::writeTiff(dir / "truth_visible.tif", truth.state);
+  const auto& g = truth.grid;
+  io::writeJsonFile(dir / "truth.json",
+                    {{"origin_x", g.origin_x},
+                     {"origin_y", g.origin_y},
+                     {"resolution", g.resolution},
+                     {"rows", g.rows},
+                     {"cols", g.cols},
+                     {"frame", "world"},
+                     {"truth_visible_codes",
+                      {{"0", "visible"}, {"1", "outside field of view"}, {"2", "occluded"}}}});
+}
+
+void runSimScan(const SimScanArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto model = scannerModel(a);
+  const sim::ProceduralTerrain terrain(sim::makeObstacleCourse({.seed = a.seed}));
+  const sim::RayCaster caster(terrain);
+  const Eigen::Vector3d rover(0, 0, terrain.height(0, 0));
+  const auto pose = model.mountPose(rover);
+  const auto scan = sim::simulateScan(caster, model, pose, a.seed);
+
+  const Box2 region =
+      a.region.empty() ? sim::groundFootprint(model, pose, rover.z()) : parseRegion(a.region);
+  const auto grid = GridSpec::covering(region, a.resolution);
+  if (double(grid.rows) * grid.cols > 5e7)
+    throw std::invalid_argument("truth grid of " + std::to_string(grid.rows) + "x" +
+                                std::to_string(grid.cols) +
+                                " cells is too large; "
+                                "use a coarser --resolution or a smaller --region");
+  const auto truth = sim::computeVisibility(caster, model, pose, grid);
+
+  const std::filesystem::path dir(a.out);
+  std::filesystem::create_directories(dir);
+  sensor::writeRangeImage(scan, dir / "scan.tif");
+  writeTruth(truth, dir);
+  printJson(
+      {{"scan", (dir / "scan.tif").string()},
+       {"rows", scan.rows()},
+       {"cols", scan.cols()},
+       {"returns", scan.returnCount()},
+       {"truth_grid", {{"rows", grid.rows}, {"cols", grid.cols}, {"resolution", grid.resolution}}},
+       {"elapsed_ms", millisecondsSince(start)}});
+}
+
+}  // namespace
+
+void addSimScan(CLI::App& app) {
+  auto args = std::make_shared<SimScanArgs>();
+  auto* cmd = app.add_subcommand(
+      "sim-scan", "Simulate one laser range image of the obstacle course, with ground truth");
+  cmd->add_option("--seed", args->seed, "terrain and noise seed")->capture_default_str();
+  cmd->add_option("--out", args->out, "output folder")->required();
+  cmd->add_option("--config", args->config, "scanner model JSON (default: config/scanner.json)");
+  cmd->add_option("--tilt", args->tilt_deg, "boresight depression [deg]")
+      ->check(CLI::Range(-89.0, 89.0));
+  cmd->add_option("--height", args->height_m, "sensor height above ground [m]")
+      ->check(CLI::Range(0.1, 100.0));
+  cmd->add_option("--rows", args->rows, "image rows")->check(CLI::Range(1, 8192));
+  cmd->add_option("--cols", args->cols, "image columns")->check(CLI::Range(1, 8192));
+  cmd->add_option("--noise", args->noise_k, "range noise k in sigma = k rho^2 [1/m]")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--region", args->region,
+                  "ground-truth region XMIN,YMIN,XMAX,YMAX [m] (default: scan footprint)");
+  cmd->add_option("--resolution", args->resolution, "ground-truth cell size [m]")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  cmd->callback([args] { runSimScan(*args); });
+}
+
+void addSimStriper(CLI::App& app) {
+  struct Args {
+    std::uint64_t seed = 1;
+    std::string out;
+    int rocks = 5;
+    double noise = 0.0005;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("sim-striper",
+                                 "Simulate a light-striper image of the rock-sampling work area");
+  cmd->add_option("--seed", args->seed, "scene and noise seed")->capture_default_str();
+  cmd->add_option("--out", args->out, "output folder")->required();
+  cmd->add_option("--rocks", args->rocks, "number of rocks")
+      ->check(CLI::Range(0, 40))
+      ->capture_default_str();
+  cmd->add_option("--noise", args->noise, "noise along the camera ray [m]")
+      ->check(CLI::Range(0.0, 0.05))
+      ->capture_default_str();
+  cmd->callback([args] {
+    const auto start = std::chrono::steady_clock::now();
+    const sim::ProceduralTerrain terrain(
+        sim::makeWorkArea({.seed = args->seed, .rocks = args->rocks}));
+    const sim::RayCaster caster(terrain, {.cell_size = 0.02, .step = 0.001});
+    sim::StriperModel model;
+    model.noise_sigma = args->noise;
+    const auto scene = sim::simulateStriper(terrain, caster, model, args->seed);
+    const std::filesystem::path dir(args->out);
+    sensor::writeStriperImage(scene.image, dir);
+    io::writeTiff(dir / "truth_labels.tif", scene.labels);
+    printJson({{"striper", dir.string()},
+               {"points", scene.image.pointCount()},
+               {"rocks", terrain.description().features.size()},
+               {"elapsed_ms", millisecondsSince(start)}});
+  });
+}
+
+}  // namespace ambler::cli

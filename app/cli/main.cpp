@@ -1,0 +1,24 @@
+// ambler-cli: the ground station's algorithms for batch work, evaluation and
+// benchmarks. Every subcommand reads and writes the files of docs/formats.md
+// and prints JSON.
+#include <iostream>
+
+#include "cli/Commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Ambler ground station: batch tool (simulation, file inspection)"};
+  app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
+  app.require_subcommand(1);
+  ambler::cli::addSimScan(app);
+  ambler::cli::addSimStriper(app);
+  ambler::cli::addInfo(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "ambler-cli: error: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,56 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+
+namespace ambler {
+
+// Axis-aligned rectangle in the x-y plane of some frame [m].
+struct Box2 {
+  double x_min = 0.0;
+  double y_min = 0.0;
+  double x_max = 0.0;
+  double y_max = 0.0;
+
+  bool contains(double x, double y) const {
+    return x >= x_min && x <= x_max && y >= y_min && y <= y_max;
+  }
+  double width() const { return x_max - x_min; }
+  double height() const { return y_max - y_min; }
+};
+
+// A regular grid on the x-y plane. Cell (r, c) has its centre at
+// (origin_x + (c + 0.5) * resolution, origin_y + (r + 0.5) * resolution):
+// row index grows with y, column index with x. Every map and ground-truth
+// raster of the project uses this convention (docs/formats.md).
+struct GridSpec {
+  double origin_x = 0.0;
+  double origin_y = 0.0;
+  double resolution = 0.1;
+  int rows = 0;
+  int cols = 0;
+
+  Eigen::Vector2d cellCenter(int r, int c) const {
+    return {origin_x + (c + 0.5) * resolution, origin_y + (r + 0.5) * resolution};
+  }
+  Box2 bounds() const {
+    return {origin_x, origin_y, origin_x + cols * resolution, origin_y + rows * resolution};
+  }
+  int cellCount() const { return rows * cols; }
+  int index(int r, int c) const { return r * cols + c; }
+
+  // The smallest grid at `resolution` that covers `box`.
+  static GridSpec covering(const Box2& box, double resolution);
+};
+
+inline GridSpec GridSpec::covering(const Box2& box, double resolution) {
+  GridSpec g;
+  g.origin_x = box.x_min;
+  g.origin_y = box.y_min;
+  g.resolution = resolution;
+  g.cols = static_cast<int>(std::ceil(box.width() / resolution - 1e-9));
+  g.rows = static_cast<int>(std::ceil(box.height() / resolution - 1e-9));
+  return g;
+}
+
+}  // namespace ambler

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <cstdint>
+
+#include "sim/ProceduralTerrain.h"
+
+namespace ambler::sim {
+
+// The walking course, after the high-bay of the cmu-1990 report: sandy
+// rolling ground, a box too tall to step over, a 1 m deep trench, a ramp,
+// boulders and scattered rocks. World frame: the rover starts at the origin
+// facing +y, z up. The seed moves obstacles and draws the random parts.
+struct CourseOptions {
+  std::uint64_t seed = 1;
+  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  int boulders = 8;
+  int rocks = 120;
+  bool obstacles = true;  // box, trench and ramp
+};
+TerrainDescription makeObstacleCourse(const CourseOptions& options);
+
+// The rock-sampling work area of the cmu-1990 sampling paper: a sand tray
+// with small ripples and superquadric rocks partly buried in it (centres
+// between half their height below the sand and the sand surface, so the
+// visible part is the true superquadric surface).
+struct WorkAreaOptions {
+  std::uint64_t seed = 1;
+  double size = 1.2;  // side of the square tray [m], centred on the origin
+  int rocks = 5;
+};
+TerrainDescription makeWorkArea(const WorkAreaOptions& options);
+
+}  // namespace ambler::sim

@@ -1,0 +1,120 @@
+// Runs the real ambler-cli binary, as a user or script would.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "TempDir.h"
+#include "io/Tiff.h"
+#include "sensor/RangeImageFile.h"
+
+namespace {
+
+struct Run {
+  int exit_code;
+  std::string out;  // stdout and stderr together
+};
+
+Run runCli(const std::string& args) {
+  const std::string command = std::string(AMBLER_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  std::array<char, 4096> buffer{};
+  while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+TEST(Cli, SimScanWritesScanAndGroundTruthThatInfoDescribes) {
+  TempDir dir;
+  const auto run = runCli("sim-scan --seed 2 --rows 48 --cols 64 --resolution 0.25 --out " +
+                          dir.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["rows"], 48);
+  EXPECT_GT(summary["returns"].get<int>(), 48 * 64 * 9 / 10);
+
+  for (const char* f : {"scan.tif", "scan.json", "truth_z.tif", "truth_visible.tif", "truth.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  const auto scan = ambler::sensor::readRangeImage(dir / "scan.tif");
+  EXPECT_EQ(scan.cols(), 64);
+  // The sensor sits 5 m (default mount) above the ground at the start.
+  EXPECT_NEAR(scan.sensor_to_world.translation().z(), 5.0, 0.5);
+
+  const auto visible = ambler::io::readByteTiff(dir / "truth_visible.tif");
+  const auto truth = nlohmann::json::parse(std::ifstream(dir / "truth.json"));
+  EXPECT_EQ(truth["rows"], visible.rows);
+  EXPECT_EQ(truth["resolution"], 0.25);
+  int counts[3] = {0, 0, 0};
+  for (auto v : visible.pixels) {
+    ASSERT_LE(v, 2);
+    ++counts[v];
+  }
+  EXPECT_GT(counts[0], 0);  // the course has visible ground,
+  EXPECT_GT(counts[2], 0);  // rocks and obstacles casting shadows,
+  EXPECT_GT(counts[1], 0);  // and the footprint's corners are outside the fan
+
+  const auto info = runCli("info " + (dir / "scan.tif").string());
+  ASSERT_EQ(info.exit_code, 0) << info.out;
+  const auto described = nlohmann::json::parse(info.out);
+  EXPECT_EQ(described["type"], "range_image");
+  EXPECT_EQ(described["returns"], summary["returns"]);
+  EXPECT_LT(described["range_m"]["min"].get<double>(), described["range_m"]["max"].get<double>());
+}
+
+TEST(Cli, SimStriperAndInfo) {
+  TempDir dir;
+  const auto run = runCli("sim-striper --seed 3 --out " + (dir / "striper").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto info = runCli("info " + (dir / "striper").string());
+  ASSERT_EQ(info.exit_code, 0) << info.out;
+  const auto described = nlohmann::json::parse(info.out);
+  EXPECT_EQ(described["type"], "striper_image");
+  EXPECT_EQ(described["points"], nlohmann::json::parse(run.out)["points"]);
+}
+
+TEST(Cli, InfoDescribesAPcdPointCloud) {
+  TempDir dir;
+  std::ofstream(dir / "cloud.pcd") << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
+                                      "TYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+                                      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
+                                      "0 0 0\n1 2 3\n-1 5 0.5\n";
+  const auto info = runCli("info " + (dir / "cloud.pcd").string());
+  ASSERT_EQ(info.exit_code, 0) << info.out;
+  const auto j = nlohmann::json::parse(info.out);
+  EXPECT_EQ(j["points"], 3);
+  EXPECT_EQ(j["bounds_m"]["min"][0], -1.0);
+  EXPECT_EQ(j["bounds_m"]["max"][1], 5.0);
+}
+
+TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
+  TempDir dir;
+  std::ofstream(dir / "scan.tif") << "garbage";
+  std::ofstream(dir / "scan.json") << "{}";
+  const auto bad_file = runCli("info " + (dir / "scan.tif").string());
+  EXPECT_EQ(bad_file.exit_code, 1);
+  EXPECT_NE(bad_file.out.find("ambler-cli: error:"), std::string::npos) << bad_file.out;
+  EXPECT_NE(bad_file.out.find("\"model\" is missing"), std::string::npos) << bad_file.out;
+
+  std::ofstream(dir / "broken.pcd") << "# .PCD v0.7\nFIELDS x y\nPOINTS 9\n";
+  const auto bad_pcd = runCli("info " + (dir / "broken.pcd").string());
+  EXPECT_EQ(bad_pcd.exit_code, 1) << bad_pcd.out;
+  EXPECT_NE(bad_pcd.out.find("malformed or truncated"), std::string::npos) << bad_pcd.out;
+
+  const auto bad_region = runCli("sim-scan --out " + dir.path().string() + " --region 1,2,x,4");
+  EXPECT_EQ(bad_region.exit_code, 1);
+  EXPECT_NE(bad_region.out.find("'x' is not a number"), std::string::npos) << bad_region.out;
+
+  const auto out_of_range = runCli("sim-scan --out " + dir.path().string() + " --tilt 95");
+  EXPECT_NE(out_of_range.exit_code, 0);
+  EXPECT_NE(out_of_range.out.find("--tilt"), std::string::npos) << out_of_range.out;
+
+  EXPECT_NE(runCli("info " + (dir / "nothing.xyz").string()).out.find("unknown kind"),
+            std::string::npos);
+}
+
+}  // namespace
