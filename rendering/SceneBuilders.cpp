@@ -1,0 +1,117 @@
+#include "rendering/SceneBuilders.h"
+
+#include <vtkCellArray.h>
+#include <vtkFloatArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkProperty.h>
+#include <vtkTextProperty.h>
+
+#include <cmath>
+
+#include "rendering/ColorMap.h"
+
+namespace ambler::rendering {
+
+vtkSmartPointer<vtkLookupTable> makeViridisTable(double lo, double hi) {
+  auto table = vtkSmartPointer<vtkLookupTable>::New();
+  table->SetNumberOfTableValues(256);
+  table->SetRange(lo, hi > lo ? hi : lo + 1e-3);
+  for (int i = 0; i < 256; ++i) {
+    const auto c = viridis(i / 255.0);
+    table->SetTableValue(i, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0, 1.0);
+  }
+  table->SetNanColor(kNoDataColor[0] / 255.0, kNoDataColor[1] / 255.0, kNoDataColor[2] / 255.0,
+                     1.0);
+  table->Build();
+  return table;
+}
+
+vtkSmartPointer<vtkActor> makeHeightSurface(const GridSpec& grid, const io::FloatImage& z,
+                                            vtkLookupTable* table) {
+  vtkNew<vtkPoints> points;
+  points->SetNumberOfPoints(vtkIdType(grid.rows) * grid.cols);
+  vtkNew<vtkFloatArray> heights;
+  heights->SetName("elevation_m");
+  heights->SetNumberOfValues(vtkIdType(grid.rows) * grid.cols);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto xy = grid.cellCenter(r, c);
+      const float h = z(r, c);
+      const vtkIdType id = grid.index(r, c);
+      points->SetPoint(id, xy.x(), xy.y(), std::isfinite(h) ? h : 0.0);
+      heights->SetValue(id, h);
+    }
+  vtkNew<vtkCellArray> triangles;
+  for (int r = 0; r + 1 < grid.rows; ++r)
+    for (int c = 0; c + 1 < grid.cols; ++c) {
+      const vtkIdType a = grid.index(r, c), b = a + 1, d = grid.index(r + 1, c), e = d + 1;
+      if (!(std::isfinite(z(r, c)) && std::isfinite(z(r, c + 1)) && std::isfinite(z(r + 1, c)) &&
+            std::isfinite(z(r + 1, c + 1))))
+        continue;
+      const vtkIdType t1[3] = {a, b, e}, t2[3] = {a, e, d};
+      triangles->InsertNextCell(3, t1);
+      triangles->InsertNextCell(3, t2);
+    }
+  vtkNew<vtkPolyData> surface;
+  surface->SetPoints(points);
+  surface->SetPolys(triangles);
+  surface->GetPointData()->SetScalars(heights);
+
+  vtkNew<vtkPolyDataNormals> normals;  // smooth shading shows the relief
+  normals->SetInputData(surface);
+  normals->SplittingOff();
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(normals->GetOutputPort());
+  mapper->SetLookupTable(table);
+  mapper->UseLookupTableScalarRangeOn();
+  mapper->SetScalarModeToUsePointData();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
+
+vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& pts,
+                                         const Eigen::Vector3d& rgb, float point_size) {
+  vtkNew<vtkPoints> points;
+  points->SetNumberOfPoints(vtkIdType(pts.size()));
+  vtkNew<vtkCellArray> vertices;
+  for (vtkIdType i = 0; i < vtkIdType(pts.size()); ++i) {
+    points->SetPoint(i, pts[std::size_t(i)].x(), pts[std::size_t(i)].y(), pts[std::size_t(i)].z());
+    vertices->InsertNextCell(1, &i);
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(points);
+  cloud->SetVerts(vertices);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(cloud);
+  mapper->ScalarVisibilityOff();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb.x(), rgb.y(), rgb.z());
+  actor->GetProperty()->SetPointSize(point_size);
+  actor->GetProperty()->LightingOff();
+  return actor;
+}
+
+vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title) {
+  auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
+  bar->SetLookupTable(table);
+  bar->SetTitle(title.c_str());
+  bar->SetNumberOfLabels(5);
+  bar->SetLabelFormat("%.2f");
+  bar->SetMaximumWidthInPixels(90);
+  bar->SetPosition(0.88, 0.1);
+  bar->SetPosition2(0.11, 0.8);
+  bar->GetTitleTextProperty()->SetFontSize(14);
+  bar->GetTitleTextProperty()->ItalicOff();
+  bar->GetLabelTextProperty()->SetFontSize(12);
+  bar->GetLabelTextProperty()->ItalicOff();
+  bar->UnconstrainedFontSizeOn();
+  return bar;
+}
+
+}  // namespace ambler::rendering

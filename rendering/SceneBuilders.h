@@ -1,0 +1,33 @@
+#pragma once
+
+#include <vtkActor.h>
+#include <vtkLookupTable.h>
+#include <vtkScalarBarActor.h>
+#include <vtkSmartPointer.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/GridSpec.h"
+#include "io/Image.h"
+
+namespace ambler::rendering {
+
+// Viridis lookup table over [lo, hi]; NaN shows in the no-data colour.
+vtkSmartPointer<vtkLookupTable> makeViridisTable(double lo, double hi);
+
+// A shaded surface through the grid's cell centres at height z [m],
+// coloured by z through `table`. Quads touching a NaN height are left out.
+vtkSmartPointer<vtkActor> makeHeightSurface(const GridSpec& grid, const io::FloatImage& z,
+                                            vtkLookupTable* table);
+
+// Points drawn as screen-space dots of one colour (RGB in [0, 1]).
+vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& points,
+                                         const Eigen::Vector3d& rgb, float point_size = 2.0f);
+
+// A vertical colour bar for `table` whose title carries the unit, e.g.
+// "Elevation [m]".
+vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title);
+
+}  // namespace ambler::rendering

@@ -1,0 +1,56 @@
+#pragma once
+
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkGenericRenderWindowInteractor.h>
+#include <vtkNew.h>
+#include <vtkRenderer.h>
+
+#include <QOpenGLWidget>
+#include <QSurface>
+#include <QSurfaceFormat>
+
+namespace ambler::rendering {
+
+// A VTK render window inside a Qt6 widget. Debian's VTK Qt module is built
+// on Qt5, so this is the project's own adapter (STACK.md): VTK renders into
+// its own framebuffer in Qt's context, and paintGL blits it into the
+// widget's framebuffer. Mouse and wheel events drive a trackball camera.
+class VtkView : public QOpenGLWidget {
+  Q_OBJECT
+
+ public:
+  explicit VtkView(QWidget* parent = nullptr);
+  ~VtkView() override;
+
+  vtkRenderer* renderer() const;
+  vtkGenericOpenGLRenderWindow* renderWindow() const;
+
+  // Schedules a VTK render of the scene (after changing actors or camera).
+  void render();
+
+  // The surface format VTK needs; set it as the application default before
+  // constructing QApplication.
+  static QSurfaceFormat defaultFormat();
+
+ protected:
+  void initializeGL() override;
+  void resizeGL(int w, int h) override;
+  void paintGL() override;
+  bool event(QEvent* e) override;
+
+ private:
+  void onRenderWindowEvent(vtkObject* caller, unsigned long event_id, void* call_data);
+  void releaseGraphics();
+  bool forwardToInteractor(QEvent* e);
+
+  vtkNew<vtkGenericOpenGLRenderWindow> window_;
+  vtkNew<vtkGenericRenderWindowInteractor> interactor_;
+  vtkNew<vtkRenderer> renderer_;
+  QSurface* surface_ = nullptr;
+  QMetaObject::Connection context_connection_;
+  bool render_pending_ = true;
+  bool in_paint_ = false;
+  int wheel_accumulator_ = 0;
+};
+
+}  // namespace ambler::rendering

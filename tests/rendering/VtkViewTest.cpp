@@ -1,0 +1,115 @@
+// Widget test of the Qt6 <-> VTK adapter; needs a display (xvfb-run).
+#include <vtkCamera.h>
+
+#include <QApplication>
+#include <QColor>
+#include <QImage>
+#include <QMouseEvent>
+#include <QSet>
+#include <QSurfaceFormat>
+#include <QtTest/QtTest>
+#include <cmath>
+
+#include "rendering/SceneBuilders.h"
+#include "rendering/VtkView.h"
+
+using ambler::rendering::VtkView;
+
+namespace {
+
+// z = 0.5 sin(x) cos(y) on a 6 m x 6 m grid at 10 cm.
+void addWavySurface(VtkView& view) {
+  const ambler::GridSpec grid{-3.0, -3.0, 0.1, 60, 60};
+  ambler::io::FloatImage z(grid.rows, grid.cols);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto p = grid.cellCenter(r, c);
+      z(r, c) = float(0.5 * std::sin(p.x()) * std::cos(p.y()));
+    }
+  auto table = ambler::rendering::makeViridisTable(-0.5, 0.5);
+  view.renderer()->AddActor(ambler::rendering::makeHeightSurface(grid, z, table));
+  view.renderer()->AddActor2D(ambler::rendering::makeColorBar(table, "Elevation [m]"));
+  view.renderer()->ResetCamera();
+}
+
+void sendMouse(QWidget& w, QEvent::Type type, QPointF pos, Qt::MouseButtons buttons) {
+  QMouseEvent e(type, pos, w.mapToGlobal(pos),
+                type == QEvent::MouseMove ? Qt::NoButton : Qt::LeftButton, buttons, Qt::NoModifier);
+  QApplication::sendEvent(&w, &e);
+}
+
+QImage renderedImage(VtkView& view) {
+  view.render();
+  QTest::qWait(100);
+  return view.grabFramebuffer();
+}
+
+}  // namespace
+
+class VtkViewTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void rendersAColouredSurface() {
+    VtkView view;
+    view.resize(400, 300);
+    addWavySurface(view);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QImage image = renderedImage(view);
+    QCOMPARE(image.width(), 400);
+    image.save(QCoreApplication::applicationDirPath() + "/screenshot-vtkview.png");
+
+    // The background is a grey-blue gradient (low saturation); the surface
+    // is viridis-coloured (saturated, many hues).
+    int saturated = 0;
+    QSet<int> hues;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) {
+        const QColor c = image.pixelColor(x, y);
+        if (c.hsvSaturation() > 100) {
+          ++saturated;
+          hues.insert(c.hsvHue() / 10);
+        }
+      }
+    const double fraction = double(saturated) / (image.width() * image.height());
+    QVERIFY2(fraction > 0.15, qPrintable(QString("only %1 of pixels coloured").arg(fraction)));
+    QVERIFY2(hues.size() >= 5, qPrintable(QString("only %1 hue bands").arg(hues.size())));
+  }
+
+  void mouseDragMovesTheCamera() {
+    VtkView view;
+    view.resize(400, 300);
+    addWavySurface(view);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QImage before = renderedImage(view);
+    auto* camera = view.renderer()->GetActiveCamera();
+    double p0[3], f0[3];
+    camera->GetPosition(p0);
+    camera->GetFocalPoint(f0);
+    const double distance0 = camera->GetDistance();
+
+    sendMouse(view, QEvent::MouseButtonPress, {200, 150}, Qt::LeftButton);
+    for (int dx = 10; dx <= 120; dx += 10)
+      sendMouse(view, QEvent::MouseMove, {200.0 + dx, 150.0}, Qt::LeftButton);
+    sendMouse(view, QEvent::MouseButtonRelease, {320, 150}, Qt::NoButton);
+
+    double p1[3];
+    camera->GetPosition(p1);
+    const double moved = std::hypot(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]);
+    QVERIFY2(moved > 0.1 * distance0, qPrintable(QString("camera moved %1 m").arg(moved)));
+    // Trackball rotation orbits the focal point at constant distance.
+    QVERIFY(std::abs(camera->GetDistance() - distance0) < 1e-6 * distance0);
+    QVERIFY(renderedImage(view) != before);
+  }
+};
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(VtkView::defaultFormat());
+  QApplication app(argc, argv);
+  VtkViewTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "VtkViewTest.moc"
