@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/GridSpec.h"
+#include "io/Image.h"
 
 namespace ambler::sim {
 
@@ -19,5 +20,16 @@ class Terrain {
 
   virtual Box2 extent() const = 0;
 };
+
+// Heights at the centres of `grid`'s cells (NaN off the terrain).
+inline io::FloatImage sampleHeights(const Terrain& terrain, const GridSpec& grid) {
+  io::FloatImage z(grid.rows, grid.cols);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto p = grid.cellCenter(r, c);
+      z(r, c) = float(terrain.height(p.x(), p.y()));
+    }
+  return z;
+}
 
 }  // namespace ambler::sim

@@ -1,0 +1,51 @@
+#include "app/gs/SimulatorSource.h"
+
+#include <QtConcurrent/QtConcurrentRun>
+#include <chrono>
+
+#include "sim/ObstacleCourse.h"
+
+namespace ambler::gs {
+
+SimulatorSource::SimulatorSource(sim::ScannerModel model, QObject* parent)
+    : QObject(parent), model_(std::move(model)) {
+  connect(&watcher_, &QFutureWatcher<Result>::finished, this, [this] {
+    const Result result = watcher_.result();
+    if (result.display)
+      emit scanReady(*result.display);
+    else
+      emit scanFailed(result.error);
+  });
+}
+
+void SimulatorSource::requestScan(quint64 seed) {
+  if (watcher_.isRunning()) return;  // one scan at a time, like the sensor
+  watcher_.setFuture(QtConcurrent::run(&SimulatorSource::simulate, model_, seed));
+}
+
+SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model, quint64 seed) {
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const sim::ProceduralTerrain terrain(sim::makeObstacleCourse({.seed = seed}));
+    const sim::RayCaster caster(terrain);
+    const Eigen::Vector3d rover(0, 0, terrain.height(0, 0));
+    const auto pose = model.mountPose(rover);
+
+    widgets::ScanDisplay display;
+    display.scan = sim::simulateScan(caster, model, pose, seed);
+    // The ground around the rover and the scanned area, at 10 cm.
+    Box2 area = sim::groundFootprint(model, pose, rover.z());
+    const Box2 extent = terrain.extent();
+    area = {std::max(area.x_min, extent.x_min), std::max(std::min(area.y_min, -4.0), extent.y_min),
+            std::min(area.x_max, extent.x_max), std::min(area.y_max, extent.y_max)};
+    display.ground_grid = GridSpec::covering(area, 0.1);
+    display.ground = sim::sampleHeights(terrain, display.ground_grid);
+    display.scan_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return {std::move(display), {}};
+  } catch (const std::exception& e) {
+    return {std::nullopt, QString::fromStdString(e.what())};
+  }
+}
+
+}  // namespace ambler::gs

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <QFutureWatcher>
+#include <QObject>
+#include <memory>
+
+#include "sim/ScannerSim.h"
+#include "widgets/ScanDisplay.h"
+
+namespace ambler::gs {
+
+// The built-in simulator as a source of scans for the GUI: simulates on a
+// worker thread and reports back on the GUI thread. (Issue 6 turns this
+// into one implementation of the Link interface.)
+class SimulatorSource : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit SimulatorSource(sim::ScannerModel model, QObject* parent = nullptr);
+
+  void requestScan(quint64 seed);
+  bool busy() const { return watcher_.isRunning(); }
+
+ signals:
+  void scanReady(const ambler::widgets::ScanDisplay& display);
+  void scanFailed(const QString& message);
+
+ private:
+  struct Result {
+    std::optional<widgets::ScanDisplay> display;
+    QString error;
+  };
+  static Result simulate(const sim::ScannerModel& model, quint64 seed);
+
+  sim::ScannerModel model_;
+  QFutureWatcher<Result> watcher_;
+};
+
+}  // namespace ambler::gs

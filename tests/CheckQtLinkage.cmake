@@ -1,0 +1,15 @@
+# ctest: fails if PROGRAM loads any Qt5 library (STACK.md: only Qt6 in the
+# process; PCL's dependencies drag Qt5 onto the machine).
+execute_process(COMMAND ldd ${PROGRAM} OUTPUT_VARIABLE libs RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "ldd ${PROGRAM} failed")
+endif()
+string(REGEX MATCHALL "libQt5[A-Za-z]*" qt5 "${libs}")
+string(REGEX MATCHALL "libQt6[A-Za-z]*" qt6 "${libs}")
+if(qt5)
+  message(FATAL_ERROR "${PROGRAM} links Qt5: ${qt5}")
+endif()
+if(NOT qt6)
+  message(FATAL_ERROR "${PROGRAM} links no Qt6 at all")
+endif()
+message(STATUS "only Qt6: ${qt6}")
