@@ -71,7 +71,9 @@ void runSimScan(const SimScanArgs& a) {
   const sim::RayCaster caster(terrain);
   const Eigen::Vector3d rover(0, 0, terrain.height(0, 0));
   const auto pose = model.mountPose(rover);
+  const auto scan_start = std::chrono::steady_clock::now();
   const auto scan = sim::simulateScan(caster, model, pose, a.seed);
+  const double scan_ms = millisecondsSince(scan_start);
 
   const Box2 region =
       a.region.empty() ? sim::groundFootprint(model, pose, rover.z()) : parseRegion(a.region);
@@ -81,7 +83,9 @@ void runSimScan(const SimScanArgs& a) {
                                 std::to_string(grid.cols) +
                                 " cells is too large; "
                                 "use a coarser --resolution or a smaller --region");
+  const auto truth_start = std::chrono::steady_clock::now();
   const auto truth = sim::computeVisibility(caster, model, pose, grid);
+  const double truth_ms = millisecondsSince(truth_start);
 
   const std::filesystem::path dir(a.out);
   std::filesystem::create_directories(dir);
@@ -93,6 +97,8 @@ void runSimScan(const SimScanArgs& a) {
        {"cols", scan.cols()},
        {"returns", scan.returnCount()},
        {"truth_grid", {{"rows", grid.rows}, {"cols", grid.cols}, {"resolution", grid.resolution}}},
+       {"scan_ms", scan_ms},
+       {"truth_ms", truth_ms},
        {"elapsed_ms", millisecondsSince(start)}});
 }
 
