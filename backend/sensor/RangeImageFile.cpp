@@ -45,17 +45,13 @@ RangeImage readRangeImage(const std::filesystem::path& tiff_path) {
   const io::JsonFields fields(json, "range-image sidecar '" + json_path.string() + "'");
   RangeImage image = parseSidecar(fields);
   const io::FloatImage ranges = io::readFloatTiff(tiff_path);
-  if (ranges.rows != image.rows() || ranges.cols != image.cols())
-    throw io::FormatError("range image '" + tiff_path.string() + "' is " +
-                          std::to_string(ranges.rows) + "x" + std::to_string(ranges.cols) +
-                          " pixels but its sidecar says " + std::to_string(image.rows()) + "x" +
-                          std::to_string(image.cols()));
+  io::requireSize(ranges, image.rows(), image.cols(), tiff_path, "its sidecar");
   image.range = ranges.pixels;
 
   if (fields.has("reflectance_file")) {
-    const auto refl = io::readFloatTiff(siblingPath(tiff_path, fields.string("reflectance_file")));
-    if (refl.rows != ranges.rows || refl.cols != ranges.cols)
-      fields.fail("reflectance_file", "names an image whose size differs from the range image");
+    const auto refl_path = siblingPath(tiff_path, fields.string("reflectance_file"));
+    const auto refl = io::readFloatTiff(refl_path);
+    io::requireSize(refl, image.rows(), image.cols(), refl_path, "the range image's sidecar");
     image.reflectance = refl.pixels;
   }
   if (const auto problem = findProblem(image); !problem.empty())

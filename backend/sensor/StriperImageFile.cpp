@@ -47,11 +47,7 @@ StriperImage readStriperImage(const std::filesystem::path& folder) {
 
   for (const auto& plane : kPlanes) {
     const auto data = io::readFloatTiff(folder / plane.file);
-    if (data.rows != cam.rows || data.cols != cam.cols)
-      throw io::FormatError("striper image '" + (folder / plane.file).string() + "' is " +
-                            std::to_string(data.rows) + "x" + std::to_string(data.cols) +
-                            " pixels but the header says " + std::to_string(cam.rows) + "x" +
-                            std::to_string(cam.cols));
+    io::requireSize(data, cam.rows, cam.cols, folder / plane.file, "the header");
     image.*plane.member = data.pixels;
   }
   if (const auto problem = findProblem(image); !problem.empty())

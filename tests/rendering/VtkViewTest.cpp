@@ -9,6 +9,7 @@
 #include <QSurfaceFormat>
 #include <QtTest/QtTest>
 #include <cmath>
+#include <memory>
 
 #include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
@@ -49,14 +50,21 @@ QImage renderedImage(VtkView& view) {
 class VtkViewTest : public QObject {
   Q_OBJECT
 
+  std::unique_ptr<VtkView> view_;
+
  private slots:
+  // Each test gets a fresh, shown 400 x 300 view of the wavy surface.
+  void init() {
+    view_ = std::make_unique<VtkView>();
+    view_->resize(400, 300);
+    addWavySurface(*view_);
+    view_->show();
+    QVERIFY(QTest::qWaitForWindowExposed(view_.get()));
+  }
+  void cleanup() { view_.reset(); }
+
   void rendersAColouredSurface() {
-    VtkView view;
-    view.resize(400, 300);
-    addWavySurface(view);
-    view.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&view));
-    const QImage image = renderedImage(view);
+    const QImage image = renderedImage(*view_);
     QCOMPARE(image.width(), 400);
     image.save(QCoreApplication::applicationDirPath() + "/screenshot-vtkview.png");
 
@@ -78,16 +86,11 @@ class VtkViewTest : public QObject {
   }
 
   void mouseDragMovesTheCamera() {
-    VtkView view;
-    view.resize(400, 300);
-    addWavySurface(view);
-    view.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    VtkView& view = *view_;
     const QImage before = renderedImage(view);
     auto* camera = view.renderer()->GetActiveCamera();
-    double p0[3], f0[3];
+    double p0[3];
     camera->GetPosition(p0);
-    camera->GetFocalPoint(f0);
     const double distance0 = camera->GetDistance();
 
     sendMouse(view, QEvent::MouseButtonPress, {200, 150}, Qt::LeftButton);

@@ -84,7 +84,7 @@ std::vector<BadFile> badFiles() {
       {"UnknownModel", [](auto& d) { editSidecar(d, [](auto& j) { j["model"] = "pinhole"; }); },
        "only \"spherical_polar\""},
       {"SizeMismatch", [](auto& d) { editSidecar(d, [](auto& j) { j["rows"] = 7; }); },
-       "is 6x9 pixels but its sidecar says 7x9"},
+       "scan.tif' is 6x9 pixels but its sidecar says 7x9"},
       {"PoseWrongLength",
        [](auto& d) { editSidecar(d, [](auto& j) { j["sensor_to_world"].erase(15); }); },
        "array of 16 numbers"},
