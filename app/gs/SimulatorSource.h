@@ -2,7 +2,7 @@
 
 #include <QFutureWatcher>
 #include <QObject>
-#include <memory>
+#include <optional>
 
 #include "sim/ScannerSim.h"
 #include "widgets/ScanDisplay.h"
@@ -19,7 +19,6 @@ class SimulatorSource : public QObject {
   explicit SimulatorSource(sim::ScannerModel model, QObject* parent = nullptr);
 
   void requestScan(quint64 seed);
-  bool busy() const { return watcher_.isRunning(); }
 
  signals:
   void scanReady(const ambler::widgets::ScanDisplay& display);
