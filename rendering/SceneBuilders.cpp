@@ -104,8 +104,10 @@ vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std
   bar->SetNumberOfLabels(5);
   bar->SetLabelFormat("%.2f");
   bar->SetMaximumWidthInPixels(90);
-  bar->SetPosition(0.88, 0.1);
-  bar->SetPosition2(0.11, 0.8);
+  // Far enough from the right edge that the centred title is not clipped
+  // in narrow views.
+  bar->SetPosition(0.80, 0.1);
+  bar->SetPosition2(0.17, 0.8);
   bar->GetTitleTextProperty()->SetFontSize(14);
   bar->GetTitleTextProperty()->ItalicOff();
   bar->GetLabelTextProperty()->SetFontSize(12);

@@ -6,7 +6,6 @@
 #include <vtkOpenGLFramebufferObject.h>
 
 #include <QEvent>
-#include <QKeyEvent>
 #include <QMouseEvent>
 #include <QOpenGLContext>
 #include <QOpenGLExtraFunctions>
