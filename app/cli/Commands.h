@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "terrain/OccludingEdges.h"
+
 namespace ambler::cli {
 
 // Each adds its subcommand to `app`; the subcommand prints JSON on stdout
@@ -9,5 +11,10 @@ namespace ambler::cli {
 void addSimScan(CLI::App& app);
 void addSimStriper(CLI::App& app);
 void addInfo(CLI::App& app);
+void addMap(CLI::App& app);
+void addEval(CLI::App& app);
+
+// The occluding-edge options shared by `map` and `eval elevation`.
+void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);
 
 }  // namespace ambler::cli

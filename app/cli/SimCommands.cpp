@@ -1,4 +1,3 @@
-#include <chrono>
 #include <filesystem>
 #include <memory>
 
@@ -9,8 +8,7 @@
 #include "io/Tiff.h"
 #include "sensor/RangeImageFile.h"
 #include "sensor/StriperImageFile.h"
-#include "sim/ObstacleCourse.h"
-#include "sim/ScannerSim.h"
+#include "sim/CourseScene.h"
 #include "sim/StriperSim.h"
 
 namespace ambler::cli {
@@ -18,11 +16,6 @@ namespace ambler::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 struct SimScanArgs {
   std::uint64_t seed = 1;
@@ -66,17 +59,12 @@ void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& 
 
 void runSimScan(const SimScanArgs& a) {
   const auto start = std::chrono::steady_clock::now();
-  const auto model = scannerModel(a);
-  const sim::ProceduralTerrain terrain(sim::makeObstacleCourse({.seed = a.seed}));
-  const sim::RayCaster caster(terrain);
-  const Eigen::Vector3d rover(0, 0, terrain.height(0, 0));
-  const auto pose = model.mountPose(rover);
+  const sim::CourseScene scene(a.seed, scannerModel(a));
   const auto scan_start = std::chrono::steady_clock::now();
-  const auto scan = sim::simulateScan(caster, model, pose, a.seed);
+  const auto scan = scene.scan(a.seed);
   const double scan_ms = millisecondsSince(scan_start);
 
-  const Box2 region =
-      a.region.empty() ? sim::groundFootprint(model, pose, rover.z()) : parseRegion(a.region);
+  const Box2 region = a.region.empty() ? scene.footprint() : parseRegion(a.region);
   const auto grid = GridSpec::covering(region, a.resolution);
   if (double(grid.rows) * grid.cols > 5e7)
     throw std::invalid_argument("truth grid of " + std::to_string(grid.rows) + "x" +
@@ -84,7 +72,7 @@ void runSimScan(const SimScanArgs& a) {
                                 " cells is too large; "
                                 "use a coarser --resolution or a smaller --region");
   const auto truth_start = std::chrono::steady_clock::now();
-  const auto truth = sim::computeVisibility(caster, model, pose, grid);
+  const auto truth = scene.truth(grid);
   const double truth_ms = millisecondsSince(truth_start);
 
   const std::filesystem::path dir(a.out);

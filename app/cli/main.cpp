@@ -6,12 +6,15 @@
 #include "cli/Commands.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Ambler ground station: batch tool (simulation, file inspection)"};
+  CLI::App app{
+      "Ambler ground station: batch tool (simulation, mapping, evaluation, file inspection)"};
   app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
   ambler::cli::addSimStriper(app);
   ambler::cli::addInfo(app);
+  ambler::cli::addMap(app);
+  ambler::cli::addEval(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,7 +3,7 @@
 #include <QtConcurrent/QtConcurrentRun>
 #include <chrono>
 
-#include "sim/ObstacleCourse.h"
+#include "sim/CourseScene.h"
 
 namespace ambler::gs {
 
@@ -26,20 +26,16 @@ void SimulatorSource::requestScan(quint64 seed) {
 SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model, quint64 seed) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    const sim::ProceduralTerrain terrain(sim::makeObstacleCourse({.seed = seed}));
-    const sim::RayCaster caster(terrain);
-    const Eigen::Vector3d rover(0, 0, terrain.height(0, 0));
-    const auto pose = model.mountPose(rover);
-
+    const sim::CourseScene scene(seed, model);
     widgets::ScanDisplay display;
-    display.scan = sim::simulateScan(caster, model, pose, seed);
+    display.scan = scene.scan(seed);
     // The ground around the rover and the scanned area, at 10 cm.
-    Box2 area = sim::groundFootprint(model, pose, rover.z());
-    const Box2 extent = terrain.extent();
+    Box2 area = scene.footprint();
+    const Box2 extent = scene.terrain().extent();
     area = {std::max(area.x_min, extent.x_min), std::max(std::min(area.y_min, -4.0), extent.y_min),
             std::min(area.x_max, extent.x_max), std::min(area.y_max, extent.y_max)};
     display.ground_grid = GridSpec::covering(area, 0.1);
-    display.ground = sim::sampleHeights(terrain, display.ground_grid);
+    display.ground = sim::sampleHeights(scene.terrain(), display.ground_grid);
     display.scan_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return {std::move(display), {}};

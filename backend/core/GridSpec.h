@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <optional>
 
 namespace ambler {
 
@@ -17,6 +18,12 @@ struct Box2 {
   }
   double width() const { return x_max - x_min; }
   double height() const { return y_max - y_min; }
+  Box2 bounds() const { return *this; }
+};
+
+struct Cell {
+  int row = 0;
+  int col = 0;
 };
 
 // A regular grid on the x-y plane. Cell (r, c) has its centre at
@@ -38,6 +45,13 @@ struct GridSpec {
   }
   int cellCount() const { return rows * cols; }
   int index(int r, int c) const { return r * cols + c; }
+  // The cell containing (x, y), if any; cells own their lower edges.
+  std::optional<Cell> cellAt(double x, double y) const {
+    const double c = std::floor((x - origin_x) / resolution);
+    const double r = std::floor((y - origin_y) / resolution);
+    if (!(c >= 0 && c < cols && r >= 0 && r < rows)) return std::nullopt;
+    return Cell{int(r), int(c)};
+  }
 
   // The smallest grid at `resolution` that covers `box`.
   static GridSpec covering(const Box2& box, double resolution);

@@ -117,4 +117,68 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
             std::string::npos);
 }
 
+TEST(Cli, MapWritesTheElevationMapOfAScanWithTheTruthGrid) {
+  TempDir dir;
+  ASSERT_EQ(runCli("sim-scan --seed 3 --region=-6,6,6,16 --out " + dir.path().string()).exit_code,
+            0);
+  const auto run = runCli("map --range " + (dir / "scan.tif").string() +
+                          " --region=-6,6,6,16 --resolution 0.05 --out " + (dir / "map").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  for (const char* f : {"elevation.tif", "sigma.tif", "state.tif", "count.tif", "map.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "map" / f)) << f;
+  const auto header = nlohmann::json::parse(std::ifstream(dir / "map" / "map.json"));
+  EXPECT_EQ(header["rows"], 200);
+  EXPECT_EQ(header["cols"], 240);
+  EXPECT_EQ(header["frame"], "world");
+  // Same grid as the simulator's truth: compare cell by cell.
+  const auto z = ambler::io::readFloatTiff(dir / "map" / "elevation.tif");
+  const auto state = ambler::io::readByteTiff(dir / "map" / "state.tif");
+  const auto truth_z = ambler::io::readFloatTiff(dir / "truth_z.tif");
+  const auto truth_state = ambler::io::readByteTiff(dir / "truth_visible.tif");
+  int known_visible = 0, visible = 0, close = 0;
+  for (std::size_t i = 0; i < z.pixels.size(); ++i) {
+    if (truth_state.pixels[i] != 0) continue;
+    ++visible;
+    if (state.pixels[i] != 0) continue;
+    ++known_visible;
+    close += std::abs(z.pixels[i] - truth_z.pixels[i]) < 0.05;
+  }
+  EXPECT_GT(known_visible, visible * 95 / 100);
+  EXPECT_GT(close, known_visible * 98 / 100);
+}
+
+TEST(Cli, MapRefusesBadArgumentsWithAMessage) {
+  TempDir dir;
+  ASSERT_EQ(runCli("sim-scan --rows 32 --cols 32 --out " + dir.path().string()).exit_code, 0);
+  const std::string scan = (dir / "scan.tif").string();
+  auto run = runCli("map --range " + scan + " --region=1,2,3 --out " + (dir / "m").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.out.find("XMIN,YMIN,XMAX,YMAX"), std::string::npos) << run.out;
+  run = runCli("map --range " + scan + " --region=0,0,1,1 --method spline --out " +
+               (dir / "m").string());
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("spline"), std::string::npos) << run.out;
+}
+
+// A small slice of `eval elevation`: the locus method beats binning at each
+// noise level and finds the shadows (docs and README carry the full run).
+TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
+  const auto run =
+      runCli("eval elevation --json --seeds 1 --tilts 30 --noise 0,0.0002 --threads 2");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto report = nlohmann::json::parse(run.out);
+  EXPECT_EQ(report["scenes"], 2);
+  const auto& locus = report["methods"]["locus"];
+  const auto& binning = report["methods"]["binning"];
+  for (int level = 0; level < 2; ++level)
+    EXPECT_LT(locus["by_noise"][level]["rmse_m"].get<double>(),
+              binning["by_noise"][level]["rmse_m"].get<double>())
+        << level;
+  EXPECT_GT(locus["coverage"].get<double>(), 0.95);
+  EXPECT_GT(locus["shadow_recall"].get<double>(), 0.9);
+  EXPECT_GT(locus["shadow_precision"].get<double>(), 0.9);
+  EXPECT_GT(locus["ms_per_map"].get<double>(), 0.0);
+  EXPECT_EQ(binning["shadow_recall"], 0.0);  // binning cannot tell a shadow
+}
+
 }  // namespace

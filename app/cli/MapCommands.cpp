@@ -1,0 +1,94 @@
+#include <filesystem>
+#include <memory>
+
+#include "cli/Arguments.h"
+#include "cli/Commands.h"
+#include "sensor/RangeImageFile.h"
+#include "terrain/Binning.h"
+#include "terrain/ElevationMapFile.h"
+#include "terrain/Locus.h"
+
+namespace ambler::cli {
+
+namespace {
+
+struct MapArgs {
+  std::string range;
+  std::string region;
+  double resolution = 0.05;
+  std::string out;
+  std::string method = "locus";
+  int threads = 0;
+  terrain::OccludingEdgeOptions edges;
+};
+
+void runMap(const MapArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto image = sensor::readRangeImage(a.range);
+  const auto grid = GridSpec::covering(parseRegion(a.region), a.resolution);
+  if (double(grid.rows) * grid.cols > 5e7)
+    throw std::invalid_argument("map of " + std::to_string(grid.rows) + "x" +
+                                std::to_string(grid.cols) +
+                                " cells is too large; use a coarser --resolution or a smaller "
+                                "--region");
+  terrain::LocusOptions options;
+  options.threads = a.threads;
+  options.edges = a.edges;
+  const auto build_start = std::chrono::steady_clock::now();
+  const auto map = a.method == "locus" ? terrain::buildLocusMap(image, grid, options)
+                                       : terrain::buildBinnedMap(image, grid);
+  const double build_ms = millisecondsSince(build_start);
+  terrain::writeElevationMap(map, a.out);
+  printJson({{"map", a.out},
+             {"method", a.method},
+             {"rows", grid.rows},
+             {"cols", grid.cols},
+             {"resolution", grid.resolution},
+             {"known", map.countOf(terrain::CellState::kKnown)},
+             {"shadow", map.countOf(terrain::CellState::kShadow)},
+             {"unknown", map.countOf(terrain::CellState::kUnknown)},
+             {"build_ms", build_ms},
+             {"elapsed_ms", millisecondsSince(start)}});
+}
+
+}  // namespace
+
+void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges) {
+  cmd.add_option("--min-grazing", edges.min_grazing_deg,
+                 "range jumps steeper than a surface seen at this grazing angle are occluding "
+                 "edges [deg]")
+      ->check(CLI::Range(0.1, 45.0))
+      ->capture_default_str();
+  cmd.add_option("--step-ratio", edges.step_ratio,
+                 "and larger than this many times the range change on the occluder's side")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  cmd.add_option("--edge-noise", edges.noise_sigmas,
+                 "extra jump allowed for range noise [std. dev.]")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
+}
+
+void addMap(CLI::App& app) {
+  auto args = std::make_shared<MapArgs>();
+  auto* cmd = app.add_subcommand("map", "Build an elevation map from a range image");
+  cmd->add_option("--range", args->range, "range image TIFF (with its JSON sidecar)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--region", args->region, "map area XMIN,YMIN,XMAX,YMAX in the world frame [m]")
+      ->required();
+  cmd->add_option("--resolution", args->resolution, "cell size [m]")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "output folder")->required();
+  cmd->add_option("--method", args->method, "locus (krotkov1989 §3) or binning (baseline)")
+      ->check(CLI::IsMember({"locus", "binning"}))
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "threads for the locus method (0: all cores)")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  addEdgeOptions(*cmd, args->edges);
+  cmd->callback([args] { runMap(*args); });
+}
+
+}  // namespace ambler::cli

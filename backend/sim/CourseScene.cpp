@@ -1,0 +1,23 @@
+#include "sim/CourseScene.h"
+
+namespace ambler::sim {
+
+CourseScene::CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d rover_xy,
+                         double heading)
+    : terrain_(makeObstacleCourse({.seed = seed})),
+      caster_(terrain_),
+      model_(std::move(model)),
+      rover_(rover_xy.x(), rover_xy.y(), terrain_.height(rover_xy.x(), rover_xy.y())),
+      pose_(model_.mountPose(rover_, heading)) {}
+
+sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {
+  return simulateScan(caster_, model_, pose_, noise_seed);
+}
+
+VisibilityTruth CourseScene::truth(const GridSpec& grid) const {
+  return computeVisibility(caster_, model_, pose_, grid);
+}
+
+Box2 CourseScene::footprint() const { return groundFootprint(model_, pose_, rover_.z()); }
+
+}  // namespace ambler::sim

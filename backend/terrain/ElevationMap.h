@@ -1,0 +1,70 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/GridSpec.h"
+
+namespace ambler::terrain {
+
+// What a map knows about a cell (krotkov1989 §3.2, fig. 6). The codes are
+// those of state.tif (docs/formats.md) and of the simulator's truth.
+enum class CellState : std::uint8_t { kKnown = 0, kUnknown = 1, kShadow = 2 };
+
+// One layer: a float per cell, row-major like the GridSpec (row = y).
+using Layer = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Names of the layers every map has.
+namespace layer {
+inline const std::string kElevation = "elevation";  // [m], NaN unless known
+inline const std::string kSigma = "sigma";          // elevation std. dev. [m], NaN unless known
+inline const std::string kState = "state";          // CellState code
+inline const std::string kCount = "count";          // observations fused into the cell
+}  // namespace layer
+
+// An elevation map in the style of grid_map: one grid, several named float
+// layers of the same size, the frame the heights are expressed in. A new map
+// knows nothing: every cell unknown, no observations.
+class ElevationMap {
+ public:
+  ElevationMap() = default;
+  explicit ElevationMap(const GridSpec& grid, std::string frame = "world");
+
+  const GridSpec& grid() const { return grid_; }
+  const std::string& frame() const { return frame_; }
+
+  bool hasLayer(const std::string& name) const;
+  // Adds (or resets) a layer filled with `value`.
+  Layer& addLayer(const std::string& name, float value);
+  // Throws std::out_of_range naming the layer when it does not exist.
+  Layer& layer(const std::string& name);
+  const Layer& layer(const std::string& name) const;
+  std::vector<std::string> layerNames() const;
+
+  CellState state(int r, int c) const { return CellState(std::uint8_t(state_(r, c))); }
+  bool isKnown(int r, int c) const { return state(r, c) == CellState::kKnown; }
+  float elevation(int r, int c) const { return elevation_(r, c); }
+  float sigma(int r, int c) const { return sigma_(r, c); }
+  float count(int r, int c) const { return count_(r, c); }
+
+  // A known cell from one or more observations.
+  void setKnown(int r, int c, double elevation, double sigma, float observations = 1);
+  // An unknown or shadow cell: elevation and sigma become NaN.
+  void setUnobserved(int r, int c, CellState state);
+
+  int knownCount() const;
+  int countOf(CellState state) const;
+
+ private:
+  GridSpec grid_;
+  std::string frame_ = "world";
+  // The four layers every map has are members so that copies stay valid and
+  // per-cell access costs no lookup; further layers live in extra_.
+  Layer elevation_, sigma_, state_, count_;
+  std::map<std::string, Layer> extra_;
+};
+
+}  // namespace ambler::terrain

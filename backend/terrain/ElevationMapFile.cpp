@@ -1,0 +1,94 @@
+#include "terrain/ElevationMapFile.h"
+
+#include <cmath>
+
+#include "io/Json.h"
+#include "io/Tiff.h"
+
+namespace ambler::terrain {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+io::FloatImage toImage(const Layer& layer) {
+  io::FloatImage image(int(layer.rows()), int(layer.cols()));
+  std::copy(layer.data(), layer.data() + layer.size(), image.pixels.begin());
+  return image;
+}
+
+void requireMapSize(const io::FloatImage& image, const GridSpec& g, const fs::path& path) {
+  io::requireSize(image, g.rows, g.cols, path, "map.json");
+}
+
+}  // namespace
+
+void writeElevationMap(const ElevationMap& map, const fs::path& dir) {
+  fs::create_directories(dir);
+  const auto& g = map.grid();
+  io::writeTiff(dir / "elevation.tif", toImage(map.layer(layer::kElevation)));
+  io::writeTiff(dir / "sigma.tif", toImage(map.layer(layer::kSigma)));
+  io::writeTiff(dir / "count.tif", toImage(map.layer(layer::kCount)));
+  io::ByteImage state(g.rows, g.cols);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) state(r, c) = std::uint8_t(map.state(r, c));
+  io::writeTiff(dir / "state.tif", state);
+  io::writeJsonFile(dir / "map.json",
+                    {{"origin_x", g.origin_x},
+                     {"origin_y", g.origin_y},
+                     {"resolution", g.resolution},
+                     {"rows", g.rows},
+                     {"cols", g.cols},
+                     {"frame", map.frame()},
+                     {"state_codes", {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}}}});
+}
+
+ElevationMap readElevationMap(const fs::path& dir) {
+  const fs::path header = dir / "map.json";
+  const auto json = io::readJsonFile(header);
+  const io::JsonFields f(json, "map header '" + header.string() + "'");
+  GridSpec g;
+  g.origin_x = f.number("origin_x");
+  g.origin_y = f.number("origin_y");
+  g.resolution = f.number("resolution");
+  if (g.resolution <= 0) f.fail("resolution", "must be positive");
+  g.rows = f.integer("rows");
+  g.cols = f.integer("cols");
+  if (g.rows <= 0 || g.cols <= 0 || double(g.rows) * g.cols > double(io::kMaxTiffPixels))
+    f.fail("rows", "and cols must be positive and describe at most 2^28 cells");
+  ElevationMap map(g, f.string("frame"));
+
+  const auto elevation = io::readFloatTiff(dir / "elevation.tif");
+  requireMapSize(elevation, g, dir / "elevation.tif");
+  const auto sigma = io::readFloatTiff(dir / "sigma.tif");
+  requireMapSize(sigma, g, dir / "sigma.tif");
+  const auto state = io::readByteTiff(dir / "state.tif");
+  io::requireSize(state, g.rows, g.cols, dir / "state.tif", "map.json");
+  io::FloatImage count(g.rows, g.cols, 1.0f);
+  if (fs::exists(dir / "count.tif")) {
+    count = io::readFloatTiff(dir / "count.tif");
+    requireMapSize(count, g, dir / "count.tif");
+  }
+  auto cellError = [&](const std::string& file, int r, int c, const std::string& problem) {
+    return io::FormatError("'" + (dir / file).string() + "': cell (" + std::to_string(r) + ", " +
+                           std::to_string(c) + ") " + problem);
+  };
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const int code = state(r, c);
+      if (code > 2)
+        throw cellError("state.tif", r, c, "has unknown state code " + std::to_string(code));
+      if (code != int(CellState::kKnown)) {
+        map.setUnobserved(r, c, CellState(code));
+        continue;
+      }
+      if (!std::isfinite(elevation(r, c)))
+        throw cellError("elevation.tif", r, c, "is known but its elevation is not finite");
+      if (!std::isfinite(sigma(r, c)) || sigma(r, c) < 0)
+        throw cellError("sigma.tif", r, c, "is known but its sigma is not a finite number >= 0");
+      map.setKnown(r, c, elevation(r, c), sigma(r, c), count(r, c));
+    }
+  return map;
+}
+
+}  // namespace ambler::terrain

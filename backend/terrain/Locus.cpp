@@ -1,0 +1,514 @@
+#include "terrain/Locus.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace ambler::terrain {
+
+namespace {
+
+using sensor::RangeImage;
+
+// Surfaces steeper than 75 degrees are faces: the height of a cell on them is
+// undetermined.
+constexpr double kSteepFaceCos = 0.26;
+
+// The vertical world line through (x, y) in the sensor frame: a + t b, where
+// t is the world height of the point [m].
+struct Line {
+  Eigen::Vector3d a;
+  Eigen::Vector3d b;
+};
+
+// Where the line crosses the half-plane of scan angle phi (eq. 2 for a
+// general line): its height, range rho_I(phi) and fractional column.
+struct LocusPoint {
+  bool on_image = false;
+  double t = 0.0;
+  double rho = 0.0;
+  double col = 0.0;
+};
+
+// Delta(phi_j) of the paper at one scanline, with the locus point.
+struct RowSample {
+  bool ok = false;  // on the image, nearest pixel has a return
+  int row = 0;
+  LocusPoint at;
+  double delta = 0.0;  // rho_I - I at the nearest column [m]
+};
+
+// Two adjacent scanlines between which the line goes behind the surface.
+struct Bracket {
+  RowSample upper;  // the line in front of the surface (Delta < 0)
+  RowSample lower;  // the line behind it
+};
+
+struct CellResult {
+  CellState state = CellState::kUnknown;
+  double z = 0.0;
+  double sigma = 0.0;
+  // The slope of Delta across the bracket is not significant against the
+  // noise: the crossing may be one of several.
+  bool ill_conditioned = false;
+};
+
+class LocusSolver {
+ public:
+  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+              double typical_height);
+
+  // Starts the search where the line is at height `z_guess`.
+  CellResult solve(double x, double y, double z_guess) const;
+
+ private:
+  LocusPoint pointAt(const Line& line, double sin_phi, double cos_phi) const;
+  RowSample sampleRow(const Line& line, int row) const;
+  int startRow(const Line& line, double z) const;
+  CellState walk(const Line& line, int down, int row, Bracket& bracket) const;
+  CellResult refine(const Line& line, const Bracket& br) const;
+  CellResult finish(const Line& line, const Bracket& br, double t, double u, double col,
+                    int quad_col) const;
+  double raiseToHighestCrossing(const Line& line, int down, Bracket& br) const;
+  double rangeAt(int upper, int lower, double u, double col, int& quad_col) const;
+  double noiseOfRange(int upper, int lower, double u, double col) const;
+  double imageRangeOnRow(int row, double col) const;
+  double sigmaOfHeight(const Line& line, const Bracket& br, double u, double col, int quad_col,
+                       bool& ill_conditioned) const;
+  double samplingSigma(int quad_row, int quad_col) const;
+  bool isSteepFace(int quad_row, int quad_col) const;
+  bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
+  double columnOf(double sin_theta) const;
+  void buildColumnTable();
+
+  const RangeImage& image_;
+  const OccludingEdges& edges_;
+  const sensor::ScanGeometry& g_;
+  double typical_height_;  // median world height of the image's points [m]
+  Eigen::Matrix3d world_to_sensor_;
+  Eigen::Vector3d origin_, b_;
+  std::vector<double> sin_phi_, cos_phi_;  // per scanline
+  std::vector<Eigen::Vector3f> world_;     // per pixel point, NaN without a return
+  // Bisection halves the step from one scanline to the next at each level;
+  // sin and cos of those half steps turn phi without calling sin/cos.
+  std::vector<double> sin_half_, cos_half_;
+  // Column as a function of sin(theta), tabulated: asin is the most
+  // expensive step of following a locus.
+  double table_sin_first_ = 0.0, table_sin_step_ = 0.0;
+  std::vector<double> column_table_;
+};
+
+LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+                         double typical_height)
+    : image_(image), edges_(edges), g_(image.geometry), typical_height_(typical_height) {
+  world_to_sensor_ = image.sensor_to_world.linear().transpose();
+  b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
+  origin_ = image.sensor_to_world.translation();
+  for (int r = 0; r < g_.rows; ++r) {
+    sin_phi_.push_back(std::sin(g_.phi(r)));
+    cos_phi_.push_back(std::cos(g_.phi(r)));
+  }
+  // Every pixel's point in the world (eq. 1 and the pose), from the
+  // per-row and per-column sines instead of three sin/cos per pixel.
+  const Eigen::Matrix3d rotation = image.sensor_to_world.linear();
+  world_.assign(std::size_t(g_.rows) * g_.cols, Eigen::Vector3f::Constant(NAN));
+  for (int c = 0; c < g_.cols; ++c) {
+    const double st = std::sin(g_.theta(c)), ct = std::cos(g_.theta(c));
+    for (int r = 0; r < g_.rows; ++r)
+      if (hasReturn(r, c)) {
+        const Eigen::Vector3d direction(st, cos_phi_[r] * ct, sin_phi_[r] * ct);
+        world_[std::size_t(r) * g_.cols + c] =
+            (origin_ + image.at(r, c) * (rotation * direction)).cast<float>();
+      }
+  }
+  buildColumnTable();
+  // One level per halving while the bracket is at least epsilon wide, and
+  // one more for the middle of the last bracket.
+  for (double h = std::abs(g_.phi_step) / 2;; h /= 2) {
+    sin_half_.push_back(std::sin(h));
+    cos_half_.push_back(std::cos(h));
+    if (h * 2 < epsilon_rad) break;
+  }
+}
+
+// Linear interpolation in a table of 4096 intervals of sin(theta) over the
+// image's columns; kept only if it matches asin to 1e-4 pixel everywhere
+// (it does unless the image reaches within a few degrees of theta = 90).
+void LocusSolver::buildColumnTable() {
+  const double a = g_.theta(-1.5), b = g_.theta(g_.cols + 0.5);
+  const double lo = std::max(std::min(a, b), -M_PI / 2), hi = std::min(std::max(a, b), M_PI / 2);
+  const int intervals = 4096;
+  table_sin_first_ = std::sin(lo);
+  table_sin_step_ = (std::sin(hi) - table_sin_first_) / intervals;
+  for (int i = 0; i <= intervals; ++i)
+    column_table_.push_back(
+        g_.col(std::asin(std::clamp(table_sin_first_ + i * table_sin_step_, -1.0, 1.0))));
+  for (int i = 0; i < intervals; ++i) {
+    const double exact = g_.col(std::asin(table_sin_first_ + (i + 0.5) * table_sin_step_));
+    if (std::abs(0.5 * (column_table_[i] + column_table_[i + 1]) - exact) > 1e-4) {
+      column_table_.clear();
+      return;
+    }
+  }
+}
+
+double LocusSolver::columnOf(double sin_theta) const {
+  if (column_table_.empty()) return g_.col(std::asin(std::clamp(sin_theta, -1.0, 1.0)));
+  const double x = (sin_theta - table_sin_first_) / table_sin_step_;
+  if (!(x >= 0 && x < double(column_table_.size() - 1))) return -1e9;  // off the image
+  const int i = int(x);
+  return column_table_[i] + (x - i) * (column_table_[i + 1] - column_table_[i]);
+}
+
+CellResult LocusSolver::solve(double x, double y, double z_guess) const {
+  const Line line{world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
+  // Which row step lowers the line point: dt/dphi has the sign of
+  // (a_y b_z - a_z b_y) between the poles of eq. 2.
+  const double turn = line.a.y() * line.b.z() - line.a.z() * line.b.y();
+  const int down = (turn * g_.phi_step < 0) ? 1 : -1;
+  Bracket bracket;
+  const auto found = walk(line, down, startRow(line, z_guess), bracket);
+  if (found != CellState::kKnown) return {found};
+  auto result = refine(line, bracket);
+  if (!result.ill_conditioned) return result;
+  // A line running beside a vertical face changes Delta by less than the
+  // noise from one scanline to the next, so Delta may change sign many
+  // times along it. The terrain is where the line first meets the surface
+  // from above; the spread of the crossings widens sigma.
+  const double spread = raiseToHighestCrossing(line, down, bracket);
+  result = refine(line, bracket);
+  if (result.state == CellState::kKnown)
+    result.sigma = std::sqrt(result.sigma * result.sigma + spread * spread / 12);
+  return result;
+}
+
+LocusPoint LocusSolver::pointAt(const Line& line, double sin_phi, double cos_phi) const {
+  LocusPoint lp;
+  const double den = line.b.z() * cos_phi - line.b.y() * sin_phi;
+  if (std::abs(den) < 1e-12) return lp;
+  lp.t = (line.a.y() * sin_phi - line.a.z() * cos_phi) / den;
+  const Eigen::Vector3d p = line.a + lp.t * line.b;
+  if (p.y() * cos_phi + p.z() * sin_phi <= 0) return lp;  // the opposite half-plane
+  lp.rho = p.norm();
+  lp.col = columnOf(p.x() / lp.rho);
+  lp.on_image = lp.col > -0.5 && lp.col < g_.cols - 0.5;
+  return lp;
+}
+
+RowSample LocusSolver::sampleRow(const Line& line, int row) const {
+  RowSample s;
+  s.row = row;
+  s.at = pointAt(line, sin_phi_[row], cos_phi_[row]);
+  if (!s.at.on_image) return s;
+  // Interpolated between the two nearest columns rather than the paper's
+  // nearest column, so that the bracket agrees with the bilinear surface the
+  // binary search uses (else a root just past a scanline can fall outside
+  // the bracket and the search stops at its end).
+  const double range = imageRangeOnRow(row, s.at.col);
+  if (!std::isfinite(range)) return s;
+  s.delta = s.at.rho - range;
+  s.ok = true;
+  return s;
+}
+
+int LocusSolver::startRow(const Line& line, double z) const {
+  const Eigen::Vector3d p = line.a + z * line.b;
+  const double row = g_.row(std::atan2(p.z(), p.y()));
+  return std::clamp(int(std::lround(std::isfinite(row) ? row : 0.0)), 0, g_.rows - 1);
+}
+
+// Scanline bracketing: from the start row, walk down the line while it is
+// in front of the surface, or up while it is behind, until the sign of
+// Delta changes between adjacent scanlines.
+CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket) const {
+  RowSample s = sampleRow(line, row);
+  if (!s.ok) return CellState::kUnknown;
+  const int step = s.delta < 0 ? down : -down;
+  for (int next = row + step; next >= 0 && next < g_.rows; next += step) {
+    const RowSample n = sampleRow(line, next);
+    if (!n.ok) return CellState::kUnknown;
+    if ((n.delta < 0) != (s.delta < 0)) {
+      bracket = s.delta < 0 ? Bracket{s, n} : Bracket{n, s};
+      return CellState::kKnown;
+    }
+    s = n;
+  }
+  // The line left the image without meeting the surface. Below the image it
+  // is out of view. Above it, the line was hidden all the way: if the ground
+  // under it is at a typical height it would have been in view, so
+  // something occludes it (a tall obstacle near the far edge); otherwise it
+  // is beyond the far edge.
+  if (s.delta < 0) return CellState::kUnknown;
+  return s.at.t > typical_height_ ? CellState::kShadow : CellState::kUnknown;
+}
+
+// Binary search on phi between the bracketing scanlines (krotkov1989
+// §3.1), the image interpolated from the four surrounding pixels at each
+// step. Within one scanline spacing the locus column theta_I(phi) is
+// linear to far below a thousandth of a pixel, so it is interpolated
+// between the exact columns at the two scanlines.
+CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
+  const int sign = (br.lower.row - br.upper.row) * g_.phi_step > 0 ? 1 : -1;
+  const double col_upper = br.upper.at.col, col_step = br.lower.at.col - br.upper.at.col;
+  // The four pixels around the intersection: fixed for the whole search
+  // unless the locus crosses a column boundary between the scanlines.
+  int quad_col = std::clamp(int(std::min(col_upper, col_upper + col_step)), 0, g_.cols - 2);
+  if (std::max(col_upper, col_upper + col_step) > quad_col + 1) quad_col = -1;
+  std::array<double, 4> quad{};
+  if (quad_col >= 0) {
+    const int c0 = quad_col, c1 = c0 + 1;
+    if (!hasReturn(br.upper.row, c0) || !hasReturn(br.upper.row, c1) ||
+        !hasReturn(br.lower.row, c0) || !hasReturn(br.lower.row, c1))
+      return {CellState::kUnknown};
+    quad = {image_.at(br.upper.row, c0), image_.at(br.upper.row, c1), image_.at(br.lower.row, c0),
+            image_.at(br.lower.row, c1)};
+  }
+  int used_quad_col = quad_col;
+  auto imageRange = [&](double u_mid) {
+    const double col = col_upper + u_mid * col_step;
+    if (quad_col < 0) return rangeAt(br.upper.row, br.lower.row, u_mid, col, used_quad_col);
+    const double fc = col - quad_col;
+    const double top = quad[0] + fc * (quad[1] - quad[0]);
+    return top + u_mid * (quad[2] + fc * (quad[3] - quad[2]) - top);
+  };
+  // Only the sign of Delta matters here: with t = N / D, rho_I >= I is
+  // |a D + N b|^2 >= I^2 D^2, which needs neither a division nor a root.
+  auto behind = [&](double u_mid, double s, double c, bool& ok) {
+    const double den = line.b.z() * c - line.b.y() * s;
+    const double num = line.a.y() * s - line.a.z() * c;
+    const double range = imageRange(u_mid);
+    ok = std::isfinite(range);
+    return (line.a * den + line.b * num).squaredNorm() >= range * range * den * den;
+  };
+  double u = 0.0, h = 1.0;
+  double sin_lo = sin_phi_[br.upper.row], cos_lo = cos_phi_[br.upper.row];
+  const std::size_t levels = sin_half_.size() - 1;
+  for (std::size_t level = 0; level <= levels; ++level) {
+    h /= 2;
+    const double sh = sign * sin_half_[level], ch = cos_half_[level];
+    const double s = sin_lo * ch + cos_lo * sh, c = cos_lo * ch - sin_lo * sh;
+    bool ok = false;
+    const bool is_behind = behind(u + h, s, c, ok);
+    if (!ok) return {CellState::kUnknown};
+    if (level == levels) {
+      // The root lies in [u, u + 2h]: take the middle, u + h.
+      const double t = (line.a.y() * s - line.a.z() * c) / (line.b.z() * c - line.b.y() * s);
+      return finish(line, br, t, u + h, col_upper + (u + h) * col_step, used_quad_col);
+    }
+    if (!is_behind) u += h, sin_lo = s, cos_lo = c;
+  }
+  return {CellState::kUnknown};
+}
+
+// Shadow, face or known; for a known cell, its sigma.
+CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, double u, double col,
+                               int quad_col) const {
+  const int quad_row = std::min(br.upper.row, br.lower.row);
+  if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow};
+  if (isSteepFace(quad_row, quad_col)) return {CellState::kUnknown};
+  bool ill_conditioned = false;
+  const double noise = sigmaOfHeight(line, br, u, col, quad_col, ill_conditioned);
+  const double sampling = samplingSigma(quad_row, quad_col);
+  return {CellState::kKnown, t, std::sqrt(noise * noise + sampling * sampling), ill_conditioned};
+}
+
+// Bilinear (four-point Lagrange) interpolation of the image between two
+// adjacent scanlines at fraction u from `upper` and fractional column
+// `col`; NaN when one of the four pixels has no return.
+double LocusSolver::rangeAt(int upper, int lower, double u, double col, int& quad_col) const {
+  // Columns on the image are > -0.5, where truncation and floor agree after
+  // the clamp (and truncation is not a library call).
+  quad_col = std::clamp(int(col), 0, g_.cols - 2);
+  const double fc = col - quad_col;  // beyond [0, 1] within half a pixel of the border
+  const int c0 = quad_col, c1 = c0 + 1;
+  if (!hasReturn(upper, c0) || !hasReturn(upper, c1) || !hasReturn(lower, c0) ||
+      !hasReturn(lower, c1))
+    return NAN;
+  const double top = image_.at(upper, c0) + fc * (image_.at(upper, c1) - image_.at(upper, c0));
+  const double bottom = image_.at(lower, c0) + fc * (image_.at(lower, c1) - image_.at(lower, c0));
+  return top + u * (bottom - top);
+}
+
+// Std. dev. of rangeAt() from the pixels' noise, sigma_rho = k rho^2 each.
+double LocusSolver::noiseOfRange(int upper, int lower, double u, double col) const {
+  const int c0 = std::clamp(int(col), 0, g_.cols - 2);
+  const double fc = std::clamp(col - c0, 0.0, 1.0);
+  const std::array<double, 4> w{(1 - u) * (1 - fc), (1 - u) * fc, u * (1 - fc), u * fc};
+  const std::array<double, 4> rho{image_.at(upper, c0), image_.at(upper, c0 + 1),
+                                  image_.at(lower, c0), image_.at(lower, c0 + 1)};
+  double variance = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const double s = sensor::rangeSigma(rho[i], image_.range_sigma_k);
+    variance += w[i] * w[i] * s * s;
+  }
+  return std::sqrt(variance);
+}
+
+// The image range along one scanline, interpolated between columns; NaN
+// without returns.
+double LocusSolver::imageRangeOnRow(int row, double col) const {
+  int quad_col = 0;
+  return rangeAt(row, row, 0.0, col, quad_col);
+}
+
+// Linearised propagation (docs/elevation-uncertainty.md): an error e in the
+// interpolated range moves the root of Delta by e / (dDelta/drow) and the
+// height by (dt/drow) times that. e has two parts: the pixels' noise
+// through the interpolation weights, and the interpolation error, bounded
+// by 1/8 of the image's second difference along the locus. dDelta/drow is
+// a least-squares slope over up to four scanlines, which damps the noise of
+// a two-point difference; an outer scanline across an occluding edge is
+// left out of the slope.
+double LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
+                                  int quad_col, bool& ill_conditioned) const {
+  const int step = br.lower.row - br.upper.row;
+  std::array<bool, 4> ok{};
+  std::array<double, 4> delta{}, range{};
+  for (int i = 0; i < 4; ++i) {
+    const int row = br.upper.row + (i - 1) * step;
+    if (row < 0 || row >= g_.rows) continue;
+    const LocusPoint lp = i == 1   ? br.upper.at
+                          : i == 2 ? br.lower.at
+                                   : pointAt(line, sin_phi_[row], cos_phi_[row]);
+    if (!lp.on_image) continue;
+    range[i] = imageRangeOnRow(row, lp.col);
+    ok[i] = std::isfinite(range[i]);
+    delta[i] = lp.rho - range[i];
+  }
+  if (!ok[1] || !ok[2]) return INFINITY;
+  if (ok[0] && edges_.quadIsEdge(std::min(br.upper.row, br.upper.row - step), quad_col))
+    ok[0] = false;
+  if (ok[3] && edges_.quadIsEdge(std::min(br.lower.row, br.lower.row + step), quad_col))
+    ok[3] = false;
+  double sum_k = 0, sum_kk = 0, sum_d = 0, sum_kd = 0;
+  int n = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!ok[i]) continue;
+    const double k = i - 1;
+    sum_k += k, sum_kk += k * k, sum_d += delta[i], sum_kd += k * delta[i], ++n;
+  }
+  const double spread_k = n * sum_kk - sum_k * sum_k;
+  const double slope = (n * sum_kd - sum_k * sum_d) / spread_k;
+  if (slope == 0.0) return INFINITY;
+  // Standard error of the slope from the pixels' noise alone.
+  const double noise = sensor::rangeSigma(br.upper.at.rho, image_.range_sigma_k);
+  ill_conditioned = std::abs(slope) < 3 * noise * std::sqrt(n / spread_k);
+  double curvature = 0.0;
+  if (ok[0]) curvature = std::abs(range[0] - 2 * range[1] + range[2]);
+  if (ok[3]) curvature = std::max(curvature, std::abs(range[1] - 2 * range[2] + range[3]));
+  const double noise_sigma = noiseOfRange(br.upper.row, br.lower.row, u, col);
+  const double range_sigma = std::sqrt(noise_sigma * noise_sigma + curvature * curvature / 64);
+  return std::abs((br.lower.at.t - br.upper.at.t) / slope) * range_sigma;
+}
+
+// Sampling: the image only knows the surface at its pixels, so a cell's
+// height is bounded by the heights of the pixels around its crossing, taken
+// as uniform in between (std. dev. = spread / sqrt(12)): the quad's four
+// pixels, or the 4 x 4 around it within a pixel of an occluding edge, where
+// the cell may belong to either surface. The part of the spread that the
+// pixels' own height noise explains (about 2 sigma for four samples) is
+// already in the noise term and is taken off.
+double LocusSolver::samplingSigma(int quad_row, int quad_col) const {
+  int r0 = std::max(quad_row - 1, 0), r1 = std::min(quad_row + 1, g_.rows - 2);
+  int c0 = std::max(quad_col - 1, 0), c1 = std::min(quad_col + 1, g_.cols - 2);
+  bool near_edge = false;
+  for (int r = r0; r <= r1 && !near_edge; ++r)
+    for (int c = c0; c <= c1 && !near_edge; ++c) near_edge = edges_.quadIsEdge(r, c);
+  if (!near_edge) r0 = r1 = quad_row, c0 = c1 = quad_col;
+  double lo = INFINITY, hi = -INFINITY;
+  for (int r = r0; r <= r1 + 1; ++r)
+    for (int c = c0; c <= c1 + 1; ++c) {
+      const double z = world_[std::size_t(r) * g_.cols + c].z();
+      if (std::isnan(z)) continue;
+      lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+  if (!(hi > lo)) return 0.0;
+  // Vertical noise of one pixel: k rho^2 times the ray's vertical part.
+  const double rho = image_.at(quad_row, quad_col);
+  const double height_noise = image_.range_sigma_k * rho * std::abs(origin_.z() - lo);
+  return std::max(hi - lo - 2 * height_noise, 0.0) / std::sqrt(12.0);
+}
+
+// A vertical line running along a steep face (a box side, a trench wall)
+// meets it over a long stretch: its crossing, and so the cell's height, is
+// not determined. The quad's surface normal, from its diagonals, tells.
+bool LocusSolver::isSteepFace(int quad_row, int quad_col) const {
+  const auto at = [&](int r, int c) -> Eigen::Vector3d {
+    return world_[std::size_t(r) * g_.cols + c].cast<double>();
+  };
+  const Eigen::Vector3d n = (at(quad_row + 1, quad_col + 1) - at(quad_row, quad_col))
+                                .cross(at(quad_row, quad_col + 1) - at(quad_row + 1, quad_col));
+  return std::abs(n.z()) < kSteepFaceCos * n.norm();
+}
+
+// Follows the line around the bracket over the stretch where |Delta| is
+// within 3 sigma of the range noise, the stretch that may hold the surface.
+// Moves the bracket to the highest crossing in it and returns the
+// stretch's height [m].
+double LocusSolver::raiseToHighestCrossing(const Line& line, int down, Bracket& br) const {
+  auto noise = [&](const RowSample& s) {
+    return 3 * sensor::rangeSigma(s.at.rho, image_.range_sigma_k);
+  };
+  RowSample s = br.lower;
+  for (int next = s.row + down; next >= 0 && next < g_.rows && s.delta < noise(s); next += down) {
+    const RowSample n = sampleRow(line, next);
+    if (!n.ok) break;
+    s = n;
+  }
+  const double bottom = s.at.t;
+  s = br.upper;
+  for (int next = s.row - down; next >= 0 && next < g_.rows && s.delta > -noise(s); next -= down) {
+    const RowSample n = sampleRow(line, next);
+    if (!n.ok) break;
+    if (n.delta < 0 && s.delta >= 0) br = {n, s};
+    s = n;
+  }
+  return s.at.t - bottom;
+}
+
+// Median world height of the image's points: where the search of the first
+// cell of each map row starts.
+double typicalHeight(const RangeImage& image) {
+  std::vector<double> z;
+  for (int r = 0; r < image.rows(); r += 4)
+    for (int c = 0; c < image.cols(); c += 4)
+      if (image.hasReturn(r, c)) z.push_back(image.pointInWorld(r, c).z());
+  if (z.empty()) return image.sensor_to_world.translation().z();
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  return z[z.size() / 2];
+}
+
+}  // namespace
+
+ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
+                           const LocusOptions& options) {
+  ElevationMap map(grid, "world");
+  if (image.rows() < 2 || image.cols() < 2) return map;
+  const OccludingEdges edges(image, options.edges);
+  const double epsilon =
+      options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 32;
+  const double start_z = typicalHeight(image);
+  const LocusSolver solver(image, edges, epsilon, start_z);
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+
+#pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
+  for (int r = 0; r < grid.rows; ++r) {
+    double z_guess = start_z;  // neighbouring cells have similar heights
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto p = grid.cellCenter(r, c);
+      const auto result = solver.solve(p.x(), p.y(), z_guess);
+      if (result.state == CellState::kKnown) {
+        map.setKnown(r, c, result.z, result.sigma);
+        z_guess = result.z;
+      } else {
+        map.setUnobserved(r, c, result.state);
+      }
+    }
+  }
+  return map;
+}
+
+}  // namespace ambler::terrain

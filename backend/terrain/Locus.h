@@ -1,0 +1,33 @@
+#pragma once
+
+#include "core/GridSpec.h"
+#include "sensor/RangeImage.h"
+#include "terrain/ElevationMap.h"
+#include "terrain/OccludingEdges.h"
+
+namespace ambler::terrain {
+
+struct LocusOptions {
+  // The binary search along a locus stops when its bracket is narrower than
+  // this [rad]; 0 means 1/32 of the scanline spacing (heights to about a
+  // millimetre at 20 m, well inside the range noise).
+  double epsilon_rad = 0.0;
+  OccludingEdgeOptions edges;
+  int threads = 0;  // OpenMP threads; 0 means the OpenMP default
+};
+
+// krotkov1989 §3.1-3.3: the elevation map of one range image by the locus
+// algorithm, generalised to any sensor pose (footnote 4). For each cell the
+// vertical world line through its centre is traced in image space: the two
+// scanlines between which (locus range - image range) changes sign bracket
+// the surface, a binary search on phi narrows the bracket to epsilon, and
+// the image is interpolated from the four pixels around the intersection
+// (Lagrange, i.e. bilinear in phi and theta). A cell whose intersection lies
+// in a quad of pixels across an occluding edge is shadow; a cell whose line
+// leaves the image, or meets pixels without returns, is unknown. Elevations
+// are in the world frame of image.sensor_to_world; sigma follows
+// docs/elevation-uncertainty.md.
+ElevationMap buildLocusMap(const sensor::RangeImage& image, const GridSpec& grid,
+                           const LocusOptions& options = {});
+
+}  // namespace ambler::terrain

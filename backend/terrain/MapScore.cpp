@@ -1,0 +1,69 @@
+#include "terrain/MapScore.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ambler::terrain {
+
+namespace {
+std::optional<double> ratio(double numerator, long denominator) {
+  if (denominator == 0) return std::nullopt;
+  return numerator / double(denominator);
+}
+}  // namespace
+
+void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
+                   const io::ByteImage& true_state, bool score_sigma) {
+  const auto& g = map.grid();
+  if (true_height.rows != g.rows || true_height.cols != g.cols || true_state.rows != g.rows ||
+      true_state.cols != g.cols)
+    throw std::invalid_argument("ground truth is not the size of the map");
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const int truth = true_state(r, c);
+      const auto state = map.state(r, c);
+      if (truth == 0) ++visible_;
+      if (truth != 1) {
+        const bool shadow = state == CellState::kShadow, occluded = truth == 2;
+        shadow_hit_ += shadow && occluded;
+        shadow_false_ += shadow && !occluded;
+        shadow_missed_ += !shadow && occluded;
+      }
+      if (state != CellState::kKnown || !std::isfinite(true_height(r, c))) continue;
+      visible_known_ += truth == 0;
+      const double error = double(map.elevation(r, c)) - true_height(r, c);
+      sum_sq_ += error * error;
+      ++known_;
+      const double sigma = map.sigma(r, c);
+      if (score_sigma && sigma > 0 && std::isfinite(sigma)) {
+        sum_ratio_ += error / sigma;
+        sum_ratio_sq_ += (error / sigma) * (error / sigma);
+        ++ratios_;
+      }
+    }
+}
+
+std::optional<double> MapScore::rmse() const {
+  if (known_ == 0) return std::nullopt;
+  return std::sqrt(sum_sq_ / double(known_));
+}
+
+std::optional<double> MapScore::coverage() const { return ratio(double(visible_known_), visible_); }
+
+std::optional<double> MapScore::shadowRecall() const {
+  return ratio(double(shadow_hit_), shadow_hit_ + shadow_missed_);
+}
+
+std::optional<double> MapScore::shadowPrecision() const {
+  return ratio(double(shadow_hit_), shadow_hit_ + shadow_false_);
+}
+
+std::optional<double> MapScore::sigmaCalibration() const {
+  if (ratios_ < 2) return std::nullopt;
+  const double mean = sum_ratio_ / double(ratios_);
+  const double variance = (sum_ratio_sq_ - double(ratios_) * mean * mean) / double(ratios_ - 1);
+  return std::sqrt(std::max(variance, 0.0));
+}
+
+}  // namespace ambler::terrain

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <optional>
+
+#include "io/Image.h"
+#include "terrain/ElevationMap.h"
+
+namespace ambler::terrain {
+
+// How well a map matches ground truth on the same grid: the true height at
+// each cell centre and the true state (0 visible, 1 outside the field of
+// view, 2 occluded; the simulator's VisibilityTruth). Scores of several
+// maps accumulate, so one score can pool a whole evaluation.
+class MapScore {
+ public:
+  // Throws std::invalid_argument when the truth is not the map's size.
+  // `score_sigma` false leaves the map out of the sigma calibration (maps of
+  // noise-free scans, whose sigma is only the interpolation error bound).
+  void add(const ElevationMap& map, const io::FloatImage& true_height,
+           const io::ByteImage& true_state, bool score_sigma = true);
+
+  // Root mean square of (elevation - true height) over known cells [m].
+  std::optional<double> rmse() const;
+  // Fraction of the truly visible cells the map knows.
+  std::optional<double> coverage() const;
+  // Over cells inside the field of view (true state 0 or 2): the fraction
+  // of occluded cells marked shadow, and of shadow cells truly occluded.
+  std::optional<double> shadowRecall() const;
+  std::optional<double> shadowPrecision() const;
+  // Standard deviation of error / sigma over known cells with sigma > 0;
+  // 1 when the sigmas are honest.
+  std::optional<double> sigmaCalibration() const;
+  long knownCells() const { return known_; }
+
+ private:
+  double sum_sq_ = 0.0;
+  long known_ = 0;
+  long visible_ = 0, visible_known_ = 0;
+  long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
+  double sum_ratio_ = 0.0, sum_ratio_sq_ = 0.0;
+  long ratios_ = 0;
+};
+
+}  // namespace ambler::terrain

@@ -1,0 +1,17 @@
+#pragma once
+
+#include "terrain/ElevationMap.h"
+
+namespace ambler::terrain {
+
+// cmu-1990 'LTM Merger': fuses `update` (one view) into `map` (the local
+// terrain map) by maximum likelihood. Each cell of `map` takes the update's
+// cell under its centre; where both know the height, the result is the
+// inverse-variance weighted mean, with 1/sigma^2 = 1/sigma_a^2 + 1/sigma_b^2
+// (sigmas below 1 micrometre count as 1 micrometre). A cell known in either
+// becomes known, so shadows seen from a later position are filled in; shadow
+// wins over unknown. Observation counts add. Throws std::invalid_argument
+// when the frames differ.
+void mergeInto(ElevationMap& map, const ElevationMap& update);
+
+}  // namespace ambler::terrain

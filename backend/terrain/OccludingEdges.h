@@ -1,0 +1,43 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sensor/RangeImage.h"
+
+namespace ambler::terrain {
+
+// krotkov1989 §3.2: a range shadow is an occluding edge in the range image.
+// A continuous surface seen at grazing angle alpha changes range by about
+// rho * delta / tan(alpha) between pixels delta radians apart, so a larger
+// jump between neighbouring pixels is a discontinuity: either an occluding
+// edge or a surface seen so obliquely that it is as good as hidden. Range
+// noise (sigma = k rho^2 per pixel) widens the threshold.
+struct OccludingEdgeOptions {
+  double min_grazing_deg = 10.0;  // jumps no steeper than this grazing angle are continuous
+  double step_ratio = 3.0;        // and so are jumps below this many times the occluder's slope
+  double noise_sigmas = 4.0;      // noise allowance, in std. dev. of the jump
+};
+
+// The discontinuities of one range image, indexed by the image's quads: quad
+// (r, c) is the square of pixels (r, c), (r, c+1), (r+1, c), (r+1, c+1)
+// that interpolation draws from. A quad is an edge quad when any two of its
+// pixels (sides or diagonals) are discontinuous. Pixels without a return
+// are not edges; they make interpolation impossible instead.
+class OccludingEdges {
+ public:
+  OccludingEdges() = default;
+  OccludingEdges(const sensor::RangeImage& image, const OccludingEdgeOptions& options = {});
+
+  bool quadIsEdge(int r, int c) const { return quad_[std::size_t(r) * (cols_ - 1) + c] != 0; }
+  // Pixels on either side of a discontinuity (for display and tests).
+  bool pixelIsEdge(int r, int c) const { return pixel_[std::size_t(r) * cols_ + c] != 0; }
+  int edgePixelCount() const;
+
+ private:
+  int rows_ = 0, cols_ = 0;
+  std::vector<std::uint8_t> pixel_;
+  std::vector<std::uint8_t> quad_;  // (rows - 1) x (cols - 1)
+};
+
+}  // namespace ambler::terrain

@@ -1,0 +1,132 @@
+#include "terrain/Locus.h"
+
+#include <gtest/gtest.h>
+
+#include "sim/ProceduralTerrain.h"
+#include "sim/ScannerSim.h"
+
+namespace ambler::terrain {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// z = slope_x x + slope_y y + offset, everywhere.
+class PlaneTerrain : public sim::Terrain {
+ public:
+  PlaneTerrain(double slope_x, double slope_y, double offset)
+      : sx_(slope_x), sy_(slope_y), z0_(offset) {}
+  double height(double x, double y) const override { return sx_ * x + sy_ * y + z0_; }
+  double maxHeightIn(const Box2& b) const override {
+    return z0_ + std::max(sx_ * b.x_min, sx_ * b.x_max) + std::max(sy_ * b.y_min, sy_ * b.y_max);
+  }
+  Box2 extent() const override { return {-100, -100, 100, 100}; }
+
+ private:
+  double sx_, sy_, z0_;
+};
+
+sim::ScannerModel scanner(double k) {
+  sim::ScannerModel m;
+  m.geometry = sensor::ScanGeometry::symmetric(128, 128, 30 * kDeg, 60 * kDeg);
+  m.range_sigma_k = k;
+  m.max_range = 40;
+  m.mount_height = 5;
+  m.tilt = 30 * kDeg;
+  return m;
+}
+
+const GridSpec kGrid = GridSpec::covering({-4, 6, 4, 14}, 0.1);
+
+// Every cell in view of a noise-free scan of a plane is known and its
+// height is the plane's, whatever the plane's tilt and the sensor's pose.
+void expectExactPlane(const sim::Terrain& plane, const Eigen::Isometry3d& pose) {
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(0.0);
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  LocusOptions options;
+  options.epsilon_rad = 1e-7;
+  const auto map = buildLocusMap(image, kGrid, options);
+  const auto truth = sim::computeVisibility(caster, m, pose, kGrid);
+  int checked = 0;
+  for (int r = 0; r < kGrid.rows; ++r)
+    for (int c = 0; c < kGrid.cols; ++c) {
+      if (truth.state(r, c) != 0) continue;
+      const auto p = kGrid.cellCenter(r, c);
+      ASSERT_EQ(map.state(r, c), CellState::kKnown) << r << "," << c;
+      EXPECT_NEAR(map.elevation(r, c), plane.height(p.x(), p.y()), 1e-3) << r << "," << c;
+      ++checked;
+    }
+  EXPECT_GT(checked, kGrid.cellCount() / 2);
+}
+
+TEST(Locus, FlatPlaneGivesExactElevations) {
+  const PlaneTerrain plane(0, 0, 0.3);
+  expectExactPlane(plane, scanner(0).mountPose({0, 0, 0.3}));
+}
+
+TEST(Locus, TiltedPlaneUnderATurnedSensorGivesExactElevations) {
+  const PlaneTerrain plane(0.15, -0.2, 1.0);
+  // Turned 10 degrees and standing off the map's centre line.
+  const auto pose = scanner(0).mountPose({0.5, -0.5, plane.height(0.5, -0.5)}, 10 * kDeg);
+  expectExactPlane(plane, pose);
+}
+
+TEST(Locus, BoxCastsAShadowOfTheAnalyticLength) {
+  // A 1 m box whose far face is at y = 10; the sensor 5 m above flat ground
+  // at the origin. The ray grazing the far top edge meets the ground at
+  // y = 10 * 5 / (5 - 1) = 12.5 m, so along x = 0 the shadow spans 10..12.5.
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::BoxObstacle{{0.0, 9.5, 0.0, 1.0, 0.5}, 1.0});
+  const sim::ProceduralTerrain ground(d);
+  const sim::RayCaster caster(ground);
+  const auto m = scanner(0.0);
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 1);
+  const GridSpec grid = GridSpec::covering({-0.025, 8, 0.025, 14}, 0.05);
+  const auto map = buildLocusMap(image, grid);
+  double first = INFINITY, last = -INFINITY;
+  for (int r = 0; r < grid.rows; ++r)
+    if (map.state(r, 0) == CellState::kShadow) {
+      const double y = grid.cellCenter(r, 0).y();
+      first = std::min(first, y), last = std::max(last, y);
+    }
+  EXPECT_NEAR(first, 10.0, 0.1);
+  EXPECT_NEAR(last, 12.5, 0.1);
+  // The box top in front of its far edge is known, at its height.
+  const auto top = grid.cellAt(0, 9.5);
+  ASSERT_TRUE(top);
+  EXPECT_EQ(map.state(top->row, 0), CellState::kKnown);
+  EXPECT_NEAR(map.elevation(top->row, 0), 1.0, 1e-3);
+}
+
+TEST(Locus, CellsOutsideTheFieldOfViewAreUnknown) {
+  const PlaneTerrain plane(0, 0, 0);
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(0.0);
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 1);
+  // Behind the rover and far to the side: never in view.
+  const auto map = buildLocusMap(image, GridSpec::covering({-30, -10, -20, 0}, 0.5));
+  EXPECT_EQ(map.countOf(CellState::kUnknown), map.grid().cellCount());
+}
+
+TEST(Locus, SigmaMatchesTheObservedErrorOnNoisyFlatGround) {
+  const PlaneTerrain plane(0, 0, 0);
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(2e-4);
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 7);
+  const auto map = buildLocusMap(image, kGrid);
+  double sum = 0;
+  int n = 0;
+  for (int r = 0; r < kGrid.rows; ++r)
+    for (int c = 0; c < kGrid.cols; ++c)
+      if (map.isKnown(r, c)) {
+        const double ratio = map.elevation(r, c) / map.sigma(r, c);
+        sum += ratio * ratio, ++n;
+      }
+  ASSERT_GT(n, 1000);
+  // sqrt(mean((error / sigma)^2)) is 1 for honest sigmas.
+  EXPECT_NEAR(std::sqrt(sum / n), 1.0, 0.2);
+}
+
+}  // namespace
+}  // namespace ambler::terrain

@@ -1,0 +1,79 @@
+// The parts around the locus method: edge detection, the binning baseline
+// and scoring against ground truth.
+#include <gtest/gtest.h>
+
+#include "terrain/Binning.h"
+#include "terrain/MapScore.h"
+#include "terrain/OccludingEdges.h"
+
+namespace ambler::terrain {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A range image looking down from 5 m at flat ground z = 0, exact ranges.
+sensor::RangeImage flatGroundImage(int rows, int cols) {
+  sensor::RangeImage image;
+  image.geometry = sensor::ScanGeometry::symmetric(rows, cols, 30 * kDeg, 40 * kDeg);
+  image.sensor_to_world =
+      Eigen::Translation3d(0, 0, 5) * Eigen::AngleAxisd(-30 * kDeg, Eigen::Vector3d::UnitX());
+  image.range.resize(std::size_t(rows) * cols);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const Eigen::Vector3d d =
+          image.sensor_to_world.linear() *
+          sensor::toCartesian({1.0, image.geometry.phi(r), image.geometry.theta(c)});
+      image.range[std::size_t(r) * cols + c] = float(5.0 / -d.z());
+    }
+  return image;
+}
+
+TEST(OccludingEdges, ContinuousGroundHasNoEdgesAndAStepHas) {
+  auto image = flatGroundImage(64, 64);
+  EXPECT_EQ(OccludingEdges(image).edgePixelCount(), 0);
+  // Rows 0..19 see something 2 m farther: a range shadow boundary between
+  // rows 19 and 20.
+  for (int r = 0; r < 20; ++r)
+    for (int c = 0; c < 64; ++c) image.range[std::size_t(r) * 64 + c] += 2.0f;
+  const OccludingEdges edges(image);
+  for (int c = 0; c < 63; ++c) {
+    EXPECT_TRUE(edges.quadIsEdge(19, c)) << c;
+    EXPECT_FALSE(edges.quadIsEdge(10, c)) << c;
+    EXPECT_FALSE(edges.quadIsEdge(30, c)) << c;
+  }
+  EXPECT_EQ(edges.edgePixelCount(), 2 * 64);
+}
+
+TEST(Binning, AveragesThePointsInEachCell) {
+  const auto image = flatGroundImage(64, 64);
+  const auto map = buildBinnedMap(image, GridSpec::covering({-2, 6, 2, 12}, 0.5));
+  ASSERT_GT(map.knownCount(), 50);
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c)
+      if (map.isKnown(r, c)) {
+        EXPECT_NEAR(map.elevation(r, c), 0.0, 1e-5);
+        EXPECT_GE(map.count(r, c), 1);
+      }
+}
+
+TEST(MapScore, CountsAgainstTruth) {
+  ElevationMap map(GridSpec::covering({0, 0, 4, 1}, 1.0));
+  map.setKnown(0, 0, 1.0, 0.5);                 // visible, error 1
+  map.setUnobserved(0, 1, CellState::kShadow);  // occluded: a hit
+  map.setUnobserved(0, 2, CellState::kShadow);  // visible: a false shadow
+  io::FloatImage height(1, 4, 0.0f);
+  io::ByteImage state(1, 4, 0);
+  state(0, 1) = 2;
+  state(0, 3) = 2;  // occluded, map unknown: a miss
+  MapScore score;
+  score.add(map, height, state);
+  EXPECT_DOUBLE_EQ(*score.rmse(), 1.0);
+  EXPECT_DOUBLE_EQ(*score.coverage(), 0.5);
+  EXPECT_DOUBLE_EQ(*score.shadowRecall(), 0.5);
+  EXPECT_DOUBLE_EQ(*score.shadowPrecision(), 0.5);
+  EXPECT_FALSE(score.sigmaCalibration());  // one ratio is not a spread
+  EXPECT_THROW(score.add(map, io::FloatImage(2, 2), state), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ambler::terrain
