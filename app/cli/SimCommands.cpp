@@ -45,16 +45,11 @@ sim::ScannerModel scannerModel(const SimScanArgs& a) {
 void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& dir) {
   io::writeTiff(dir / "truth_z.tif", truth.height);
   io::writeTiff(dir / "truth_visible.tif", truth.state);
-  const auto& g = truth.grid;
-  io::writeJsonFile(dir / "truth.json",
-                    {{"origin_x", g.origin_x},
-                     {"origin_y", g.origin_y},
-                     {"resolution", g.resolution},
-                     {"rows", g.rows},
-                     {"cols", g.cols},
-                     {"frame", "world"},
-                     {"truth_visible_codes",
-                      {{"0", "visible"}, {"1", "outside field of view"}, {"2", "occluded"}}}});
+  auto header = io::gridJson(truth.grid);
+  header["frame"] = "world";
+  header["truth_visible_codes"] = {
+      {"0", "visible"}, {"1", "outside field of view"}, {"2", "occluded"}};
+  io::writeJsonFile(dir / "truth.json", header);
 }
 
 void runSimScan(const SimScanArgs& a) {

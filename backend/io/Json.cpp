@@ -90,4 +90,21 @@ JsonFields JsonFields::object(const std::string& key) const {
   return JsonFields(require(key), context_ + "." + key);
 }
 
+nlohmann::json gridJson(const GridSpec& grid) {
+  return {{"origin_x", grid.origin_x},
+          {"origin_y", grid.origin_y},
+          {"resolution", grid.resolution},
+          {"rows", grid.rows},
+          {"cols", grid.cols}};
+}
+
+GridSpec readGridPlacement(const JsonFields& fields) {
+  GridSpec grid;
+  grid.origin_x = fields.number("origin_x");
+  grid.origin_y = fields.number("origin_y");
+  grid.resolution = fields.number("resolution");
+  if (grid.resolution <= 0.0) fields.fail("resolution", "must be positive");
+  return grid;
+}
+
 }  // namespace ambler::io

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/GridSpec.h"
 #include "io/FormatError.h"
 
 namespace ambler::io {
@@ -37,5 +38,12 @@ class JsonFields {
   const nlohmann::json& object_;
   std::string context_;
 };
+
+// The grid keys shared by the project's raster headers (docs/formats.md):
+// origin_x, origin_y, resolution, rows, cols.
+nlohmann::json gridJson(const GridSpec& grid);
+// Reads origin_x, origin_y and resolution (> 0); rows and cols stay 0 for
+// headers that take them from the raster.
+GridSpec readGridPlacement(const JsonFields& fields);
 
 }  // namespace ambler::io

@@ -54,11 +54,7 @@ HeightfieldTerrain loadHeightfield(const std::filesystem::path& tiff_path) {
   json_path.replace_extension(".json");
   const auto json = io::readJsonFile(json_path);
   const io::JsonFields f(json, "heightfield sidecar '" + json_path.string() + "'");
-  GridSpec grid;
-  grid.origin_x = f.number("origin_x");
-  grid.origin_y = f.number("origin_y");
-  grid.resolution = f.number("resolution");
-  if (grid.resolution <= 0.0) f.fail("resolution", "must be positive");
+  const GridSpec grid = io::readGridPlacement(f);
   auto heights = io::readFloatTiff(tiff_path);
   if (heights.rows < 2 || heights.cols < 2)
     throw io::FormatError("heightfield '" + tiff_path.string() + "' needs at least 2x2 samples");

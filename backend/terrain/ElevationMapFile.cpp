@@ -33,25 +33,17 @@ void writeElevationMap(const ElevationMap& map, const fs::path& dir) {
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) state(r, c) = std::uint8_t(map.state(r, c));
   io::writeTiff(dir / "state.tif", state);
-  io::writeJsonFile(dir / "map.json",
-                    {{"origin_x", g.origin_x},
-                     {"origin_y", g.origin_y},
-                     {"resolution", g.resolution},
-                     {"rows", g.rows},
-                     {"cols", g.cols},
-                     {"frame", map.frame()},
-                     {"state_codes", {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}}}});
+  auto header = io::gridJson(g);
+  header["frame"] = map.frame();
+  header["state_codes"] = {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}};
+  io::writeJsonFile(dir / "map.json", header);
 }
 
 ElevationMap readElevationMap(const fs::path& dir) {
   const fs::path header = dir / "map.json";
   const auto json = io::readJsonFile(header);
   const io::JsonFields f(json, "map header '" + header.string() + "'");
-  GridSpec g;
-  g.origin_x = f.number("origin_x");
-  g.origin_y = f.number("origin_y");
-  g.resolution = f.number("resolution");
-  if (g.resolution <= 0) f.fail("resolution", "must be positive");
+  GridSpec g = io::readGridPlacement(f);
   g.rows = f.integer("rows");
   g.cols = f.integer("cols");
   if (g.rows <= 0 || g.cols <= 0 || double(g.rows) * g.cols > double(io::kMaxTiffPixels))
