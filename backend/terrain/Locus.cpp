@@ -58,8 +58,11 @@ struct CellResult {
 
 class LocusSolver {
  public:
-  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-              double typical_height);
+  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad);
+
+  // Median world height of the image's points (every 4th row and column):
+  // where the search of the first cell of each map row starts.
+  double typicalHeight() const { return typical_height_; }
 
   // Starts the search where the line is at height `z_guess`.
   CellResult solve(double x, double y, double z_guess) const;
@@ -87,7 +90,7 @@ class LocusSolver {
   const RangeImage& image_;
   const OccludingEdges& edges_;
   const sensor::ScanGeometry& g_;
-  double typical_height_;  // median world height of the image's points [m]
+  double typical_height_ = 0.0;  // see typicalHeight() [m]
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
   std::vector<double> sin_phi_, cos_phi_;  // per scanline
@@ -101,9 +104,8 @@ class LocusSolver {
   std::vector<double> column_table_;
 };
 
-LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-                         double typical_height)
-    : image_(image), edges_(edges), g_(image.geometry), typical_height_(typical_height) {
+LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad)
+    : image_(image), edges_(edges), g_(image.geometry) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
   b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
   origin_ = image.sensor_to_world.translation();
@@ -123,6 +125,15 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
         world_[std::size_t(r) * g_.cols + c] =
             (origin_ + image.at(r, c) * (rotation * direction)).cast<float>();
       }
+  }
+  std::vector<double> z;
+  for (int r = 0; r < g_.rows; r += 4)
+    for (int c = 0; c < g_.cols; c += 4)
+      if (hasReturn(r, c)) z.push_back(world_[std::size_t(r) * g_.cols + c].z());
+  typical_height_ = origin_.z();
+  if (!z.empty()) {
+    std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+    typical_height_ = z[z.size() / 2];
   }
   buildColumnTable();
   // One level per halving while the bracket is at least epsilon wide, and
@@ -469,18 +480,6 @@ double LocusSolver::raiseToHighestCrossing(const Line& line, int down, Bracket& 
   return s.at.t - bottom;
 }
 
-// Median world height of the image's points: where the search of the first
-// cell of each map row starts.
-double typicalHeight(const RangeImage& image) {
-  std::vector<double> z;
-  for (int r = 0; r < image.rows(); r += 4)
-    for (int c = 0; c < image.cols(); c += 4)
-      if (image.hasReturn(r, c)) z.push_back(image.pointInWorld(r, c).z());
-  if (z.empty()) return image.sensor_to_world.translation().z();
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  return z[z.size() / 2];
-}
-
 }  // namespace
 
 ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
@@ -490,8 +489,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 32;
-  const double start_z = typicalHeight(image);
-  const LocusSolver solver(image, edges, epsilon, start_z);
+  const LocusSolver solver(image, edges, epsilon);
+  const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
 #pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
