@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace ambler::terrain {
@@ -16,6 +17,41 @@ using sensor::RangeImage;
 // Surfaces steeper than 75 degrees are faces: the height of a cell on them is
 // undetermined.
 constexpr double kSteepFaceCos = 0.26;
+
+// A monotonic function of one variable tabulated at 4096 intervals and
+// interpolated linearly: the inverse trigonometric functions that map a
+// direction to an image row or column are the most expensive steps of
+// following a locus. Empty (and unused) unless it matches the function to
+// 1e-4 pixel everywhere.
+class PixelTable {
+ public:
+  template <typename F>
+  PixelTable(double x_first, double x_last, F pixel_of) {
+    const int intervals = 4096;
+    first_ = x_first;
+    step_ = (x_last - x_first) / intervals;
+    inverse_step_ = 1.0 / step_;
+    for (int i = 0; i <= intervals; ++i) values_.push_back(pixel_of(first_ + i * step_));
+    for (int i = 0; i < intervals; ++i)
+      if (!(std::abs(0.5 * (values_[i] + values_[i + 1]) - pixel_of(first_ + (i + 0.5) * step_)) <=
+            1e-4)) {
+        values_.clear();
+        return;
+      }
+  }
+  bool empty() const { return values_.empty(); }
+  // NaN outside the table.
+  double operator()(double x) const {
+    const double f = (x - first_) * inverse_step_;
+    if (!(f >= 0 && f < double(values_.size() - 1))) return NAN;
+    const int i = int(f);
+    return values_[i] + (f - i) * (values_[i + 1] - values_[i]);
+  }
+
+ private:
+  double first_ = 0.0, step_ = 0.0, inverse_step_ = 0.0;
+  std::vector<double> values_;
+};
 
 // The vertical world line through (x, y) in the sensor frame: a + t b, where
 // t is the world height of the point [m].
@@ -56,6 +92,23 @@ struct CellResult {
   bool ill_conditioned = false;
 };
 
+// Over the image's columns and half a pixel beyond.
+PixelTable columnTable(const sensor::ScanGeometry& g) {
+  const double a = g.theta(-1.5), b = g.theta(g.cols + 0.5);
+  const double lo = std::max(std::min(a, b), -M_PI / 2), hi = std::min(std::max(a, b), M_PI / 2);
+  return PixelTable(std::sin(lo), std::sin(hi), [&](double sin_theta) {
+    return g.col(std::asin(std::clamp(sin_theta, -1.0, 1.0)));
+  });
+}
+
+PixelTable rowTable(const sensor::ScanGeometry& g) {
+  const double mid = g.phi((g.rows - 1) / 2.0);
+  const double a = g.phi(-1.5) - mid, b = g.phi(g.rows + 0.5) - mid;
+  const double lo = std::max(std::min(a, b), -1.5), hi = std::min(std::max(a, b), 1.5);
+  return PixelTable(std::tan(lo), std::tan(hi),
+                    [&](double tan_phi) { return g.row(mid + std::atan(tan_phi)); });
+}
+
 class LocusSolver {
  public:
   LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad);
@@ -68,7 +121,7 @@ class LocusSolver {
   CellResult solve(double x, double y, double z_guess) const;
 
  private:
-  LocusPoint pointAt(const Line& line, double sin_phi, double cos_phi) const;
+  LocusPoint pointAt(const Line& line, int row) const;
   RowSample sampleRow(const Line& line, int row) const;
   int startRow(const Line& line, double z) const;
   CellState walk(const Line& line, int down, int row, Bracket& bracket) const;
@@ -85,7 +138,7 @@ class LocusSolver {
   bool isSteepFace(int quad_row, int quad_col) const;
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double sin_theta) const;
-  void buildColumnTable();
+  double rowOf(double y, double z) const;
 
   const RangeImage& image_;
   const OccludingEdges& edges_;
@@ -94,25 +147,42 @@ class LocusSolver {
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
   std::vector<double> sin_phi_, cos_phi_;  // per scanline
-  std::vector<Eigen::Vector3f> world_;     // per pixel point, NaN without a return
+  // 1 / (b_z cos(phi) - b_y sin(phi)) per scanline: every line shares the
+  // direction b, so the denominator of eq. 2 depends on the scanline only.
+  std::vector<double> inverse_den_;
+  // Pixel (r, c) and (r, c + 1) both have returns, for interpolation.
+  std::vector<std::uint8_t> pair_ok_;
+  std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
   std::vector<double> sin_half_, cos_half_;
-  // Column as a function of sin(theta), tabulated: asin is the most
-  // expensive step of following a locus.
-  double table_sin_first_ = 0.0, table_sin_step_ = 0.0;
-  std::vector<double> column_table_;
+  // Column as a function of sin(theta).
+  PixelTable column_table_;
+  // Row as a function of tan(phi - phi_mid), phi_mid the middle scanline:
+  // the image spans less than 180 degrees about it.
+  double sin_mid_ = 0.0, cos_mid_ = 1.0;
+  PixelTable row_table_;
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad)
-    : image_(image), edges_(edges), g_(image.geometry) {
+    : image_(image),
+      edges_(edges),
+      g_(image.geometry),
+      column_table_(columnTable(image.geometry)),
+      row_table_(rowTable(image.geometry)) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
   b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
   origin_ = image.sensor_to_world.translation();
   for (int r = 0; r < g_.rows; ++r) {
     sin_phi_.push_back(std::sin(g_.phi(r)));
     cos_phi_.push_back(std::cos(g_.phi(r)));
+    const double den = b_.z() * cos_phi_.back() - b_.y() * sin_phi_.back();
+    inverse_den_.push_back(std::abs(den) < 1e-12 ? INFINITY : 1.0 / den);
   }
+  pair_ok_.assign(std::size_t(g_.rows) * g_.cols, 0);
+  for (int r = 0; r < g_.rows; ++r)
+    for (int c = 0; c + 1 < g_.cols; ++c)
+      pair_ok_[std::size_t(r) * g_.cols + c] = hasReturn(r, c) && hasReturn(r, c + 1);
   // Every pixel's point in the world (eq. 1 and the pose), from the
   // per-row and per-column sines instead of three sin/cos per pixel.
   const Eigen::Matrix3d rotation = image.sensor_to_world.linear();
@@ -135,7 +205,8 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
     std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
     typical_height_ = z[z.size() / 2];
   }
-  buildColumnTable();
+  sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
+  cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
   // One level per halving while the bracket is at least epsilon wide, and
   // one more for the middle of the last bracket.
   for (double h = std::abs(g_.phi_step) / 2;; h /= 2) {
@@ -148,30 +219,17 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
 // Linear interpolation in a table of 4096 intervals of sin(theta) over the
 // image's columns; kept only if it matches asin to 1e-4 pixel everywhere
 // (it does unless the image reaches within a few degrees of theta = 90).
-void LocusSolver::buildColumnTable() {
-  const double a = g_.theta(-1.5), b = g_.theta(g_.cols + 0.5);
-  const double lo = std::max(std::min(a, b), -M_PI / 2), hi = std::min(std::max(a, b), M_PI / 2);
-  const int intervals = 4096;
-  table_sin_first_ = std::sin(lo);
-  table_sin_step_ = (std::sin(hi) - table_sin_first_) / intervals;
-  for (int i = 0; i <= intervals; ++i)
-    column_table_.push_back(
-        g_.col(std::asin(std::clamp(table_sin_first_ + i * table_sin_step_, -1.0, 1.0))));
-  for (int i = 0; i < intervals; ++i) {
-    const double exact = g_.col(std::asin(table_sin_first_ + (i + 0.5) * table_sin_step_));
-    if (std::abs(0.5 * (column_table_[i] + column_table_[i + 1]) - exact) > 1e-4) {
-      column_table_.clear();
-      return;
-    }
-  }
-}
-
 double LocusSolver::columnOf(double sin_theta) const {
   if (column_table_.empty()) return g_.col(std::asin(std::clamp(sin_theta, -1.0, 1.0)));
-  const double x = (sin_theta - table_sin_first_) / table_sin_step_;
-  if (!(x >= 0 && x < double(column_table_.size() - 1))) return -1e9;  // off the image
-  const int i = int(x);
-  return column_table_[i] + (x - i) * (column_table_[i + 1] - column_table_[i]);
+  const double col = column_table_(sin_theta);
+  return std::isnan(col) ? -1e9 : col;  // NaN: off the image
+}
+
+// The row of direction (y, z) in the sensor's y-z plane; NaN off the image.
+double LocusSolver::rowOf(double y, double z) const {
+  const double y_mid = y * cos_mid_ + z * sin_mid_, z_mid = z * cos_mid_ - y * sin_mid_;
+  if (y_mid > 0 && !row_table_.empty()) return row_table_(z_mid / y_mid);
+  return g_.row(std::atan2(z, y));
 }
 
 CellResult LocusSolver::solve(double x, double y, double z_guess) const {
@@ -196,11 +254,11 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   return result;
 }
 
-LocusPoint LocusSolver::pointAt(const Line& line, double sin_phi, double cos_phi) const {
+LocusPoint LocusSolver::pointAt(const Line& line, int row) const {
   LocusPoint lp;
-  const double den = line.b.z() * cos_phi - line.b.y() * sin_phi;
-  if (std::abs(den) < 1e-12) return lp;
-  lp.t = (line.a.y() * sin_phi - line.a.z() * cos_phi) / den;
+  const double sin_phi = sin_phi_[row], cos_phi = cos_phi_[row];
+  if (!std::isfinite(inverse_den_[row])) return lp;
+  lp.t = (line.a.y() * sin_phi - line.a.z() * cos_phi) * inverse_den_[row];
   const Eigen::Vector3d p = line.a + lp.t * line.b;
   if (p.y() * cos_phi + p.z() * sin_phi <= 0) return lp;  // the opposite half-plane
   lp.rho = p.norm();
@@ -212,7 +270,7 @@ LocusPoint LocusSolver::pointAt(const Line& line, double sin_phi, double cos_phi
 RowSample LocusSolver::sampleRow(const Line& line, int row) const {
   RowSample s;
   s.row = row;
-  s.at = pointAt(line, sin_phi_[row], cos_phi_[row]);
+  s.at = pointAt(line, row);
   if (!s.at.on_image) return s;
   // Interpolated between the two nearest columns rather than the paper's
   // nearest column, so that the bracket agrees with the bilinear surface the
@@ -227,8 +285,11 @@ RowSample LocusSolver::sampleRow(const Line& line, int row) const {
 
 int LocusSolver::startRow(const Line& line, double z) const {
   const Eigen::Vector3d p = line.a + z * line.b;
-  const double row = g_.row(std::atan2(p.z(), p.y()));
-  return std::clamp(int(std::lround(std::isfinite(row) ? row : 0.0)), 0, g_.rows - 1);
+  double row = rowOf(p.y(), p.z());
+  if (std::isnan(row)) row = g_.row(std::atan2(p.z(), p.y()));  // off the table
+  // Rounded to the nearest row; truncation is a floor on positive numbers.
+  row = std::clamp(std::isfinite(row) ? row : 0.0, -1.0, double(g_.rows));
+  return std::clamp(int(row + 1.5) - 1, 0, g_.rows - 1);
 }
 
 // Scanline bracketing: from the start row, walk down the line while it is
@@ -271,8 +332,8 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
   std::array<double, 4> quad{};
   if (quad_col >= 0) {
     const int c0 = quad_col, c1 = c0 + 1;
-    if (!hasReturn(br.upper.row, c0) || !hasReturn(br.upper.row, c1) ||
-        !hasReturn(br.lower.row, c0) || !hasReturn(br.lower.row, c1))
+    if (!pair_ok_[std::size_t(br.upper.row) * g_.cols + c0] ||
+        !pair_ok_[std::size_t(br.lower.row) * g_.cols + c0])
       return {CellState::kUnknown};
     quad = {image_.at(br.upper.row, c0), image_.at(br.upper.row, c1), image_.at(br.lower.row, c0),
             image_.at(br.lower.row, c1)};
@@ -335,8 +396,7 @@ double LocusSolver::rangeAt(int upper, int lower, double u, double col, int& qua
   quad_col = std::clamp(int(col), 0, g_.cols - 2);
   const double fc = col - quad_col;  // beyond [0, 1] within half a pixel of the border
   const int c0 = quad_col, c1 = c0 + 1;
-  if (!hasReturn(upper, c0) || !hasReturn(upper, c1) || !hasReturn(lower, c0) ||
-      !hasReturn(lower, c1))
+  if (!pair_ok_[std::size_t(upper) * g_.cols + c0] || !pair_ok_[std::size_t(lower) * g_.cols + c0])
     return NAN;
   const double top = image_.at(upper, c0) + fc * (image_.at(upper, c1) - image_.at(upper, c0));
   const double bottom = image_.at(lower, c0) + fc * (image_.at(lower, c1) - image_.at(lower, c0));
@@ -381,9 +441,12 @@ double LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u,
   for (int i = 0; i < 4; ++i) {
     const int row = br.upper.row + (i - 1) * step;
     if (row < 0 || row >= g_.rows) continue;
-    const LocusPoint lp = i == 1   ? br.upper.at
-                          : i == 2 ? br.lower.at
-                                   : pointAt(line, sin_phi_[row], cos_phi_[row]);
+    if (i == 1 || i == 2) {
+      const RowSample& s = i == 1 ? br.upper : br.lower;
+      ok[i] = true, delta[i] = s.delta, range[i] = s.at.rho - s.delta;
+      continue;
+    }
+    const LocusPoint lp = pointAt(line, row);
     if (!lp.on_image) continue;
     range[i] = imageRangeOnRow(row, lp.col);
     ok[i] = std::isfinite(range[i]);
