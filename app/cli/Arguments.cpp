@@ -8,7 +8,8 @@
 
 namespace ambler::cli {
 
-Box2 parseRegion(const std::string& text) {
+std::vector<double> parseNumbers(const std::string& text, std::size_t count,
+                                 const std::string& what, const std::string& form) {
   std::vector<double> v;
   std::stringstream in(text);
   for (std::string item; std::getline(in, item, ',');) {
@@ -20,11 +21,15 @@ Box2 parseRegion(const std::string& text) {
       used = 0;
     }
     if (used == 0 || used != item.size() || !std::isfinite(d))
-      throw std::invalid_argument("region '" + text + "': '" + item + "' is not a number");
+      throw std::invalid_argument(what + " '" + text + "': '" + item + "' is not a number");
     v.push_back(d);
   }
-  if (v.size() != 4)
-    throw std::invalid_argument("region '" + text + "' must be XMIN,YMIN,XMAX,YMAX");
+  if (v.size() != count) throw std::invalid_argument(what + " '" + text + "' must be " + form);
+  return v;
+}
+
+Box2 parseRegion(const std::string& text) {
+  const auto v = parseNumbers(text, 4, "region", "XMIN,YMIN,XMAX,YMAX");
   if (v[2] <= v[0] || v[3] <= v[1])
     throw std::invalid_argument("region '" + text + "' is empty: need XMIN < XMAX and YMIN < YMAX");
   return {v[0], v[1], v[2], v[3]};

@@ -3,10 +3,16 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/GridSpec.h"
 
 namespace ambler::cli {
+
+// `count` comma-separated finite numbers; throws std::invalid_argument
+// naming `what` and the expected `form` otherwise.
+std::vector<double> parseNumbers(const std::string& text, std::size_t count,
+                                 const std::string& what, const std::string& form);
 
 // "XMIN,YMIN,XMAX,YMAX" [m]; throws std::invalid_argument naming the problem.
 Box2 parseRegion(const std::string& text);

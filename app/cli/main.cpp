@@ -7,7 +7,8 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Ambler ground station: batch tool (simulation, mapping, evaluation, file inspection)"};
+      "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
+      "inspection)"};
   app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   ambler::cli::addInfo(app);
   ambler::cli::addMap(app);
   ambler::cli::addEval(app);
+  ambler::cli::addFootfall(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

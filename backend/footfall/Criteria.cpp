@@ -66,14 +66,6 @@ ScoreMap emptyScoreMap(const FootprintStatistics& s, std::string name, std::stri
   return m;
 }
 
-ScoreMap scoreMapOf(const FootprintStatistics& s, Criterion criterion, const FootOptions& o) {
-  ScoreMap m = emptyScoreMap(s, std::string(criterionName(criterion)),
-                             std::string(criterionUnit(criterion)));
-  for (int i = 0; i < s.size(); ++i)
-    if (s.valid[i]) m.score.data()[i] = float(scoreAt(s, i, criterion, o));
-  return m;
-}
-
 void requireRange(bool ok, const char* field, const char* range) {
   if (!ok)
     throw std::invalid_argument(std::string("footfall option ") + field + " must be " + range);
@@ -146,7 +138,18 @@ std::vector<ScoreMap> evaluateAllCriteria(const terrain::ElevationMap& map, cons
 
 ScoreMap planeTilt(const terrain::ElevationMap& map, const Box2& region,
                    const FootOptions& options) {
-  const auto s = computeFootprintStatistics(map, region, requestFor(options, false));
+  return tiltMapOf(computeFootprintStatistics(map, region, requestFor(options, false)));
+}
+
+ScoreMap scoreMapOf(const FootprintStatistics& s, Criterion criterion, const FootOptions& o) {
+  ScoreMap m = emptyScoreMap(s, std::string(criterionName(criterion)),
+                             std::string(criterionUnit(criterion)));
+  for (int i = 0; i < s.size(); ++i)
+    if (s.valid[i]) m.score.data()[i] = float(scoreAt(s, i, criterion, o));
+  return m;
+}
+
+ScoreMap tiltMapOf(const FootprintStatistics& s) {
   ScoreMap m = emptyScoreMap(s, "slope", "deg");
   for (int i = 0; i < s.size(); ++i)
     if (s.valid[i]) m.score.data()[i] = float(fitPlane(s, i).tilt_deg);

@@ -78,4 +78,11 @@ std::vector<ScoreMap> evaluateAllCriteria(const terrain::ElevationMap& map, cons
 ScoreMap planeTilt(const terrain::ElevationMap& map, const Box2& region,
                    const FootOptions& options = {});
 
+// The same from statistics already computed (footfall/Footprint.h), for
+// callers that need several maps of one region.
+struct FootprintStatistics;
+ScoreMap scoreMapOf(const FootprintStatistics& stats, Criterion criterion,
+                    const FootOptions& options);
+ScoreMap tiltMapOf(const FootprintStatistics& stats);
+
 }  // namespace ambler::footfall

@@ -160,6 +160,50 @@ TEST(Cli, MapRefusesBadArgumentsWithAMessage) {
   EXPECT_NE(run.out.find("spline"), std::string::npos) << run.out;
 }
 
+// footfall on a simulated map: the printed best foothold is the minimum of
+// the written score map, and the composite writes its cost layers.
+TEST(Cli, FootfallWritesScoresAndPrintsTheBestFoothold) {
+  TempDir dir;
+  ASSERT_EQ(runCli("sim-scan --seed 3 --out " + dir.path().string()).exit_code, 0);
+  ASSERT_EQ(runCli("map --range " + (dir / "scan.tif").string() +
+                   " --region=-2,6,2,10 --resolution 0.02 --out " + (dir / "map").string())
+                .exit_code,
+            0);
+  const std::string map = " --map " + (dir / "map").string();
+  auto run = runCli("footfall" + map + " --region=-1,7,1,9 --criterion freevolume --out " +
+                    (dir / "ff").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto printed = nlohmann::json::parse(run.out);
+  ASSERT_TRUE(printed["best"]["found"].get<bool>());
+  EXPECT_EQ(printed["unit"], "m^3");
+  const auto header = nlohmann::json::parse(std::ifstream(dir / "ff" / "footfall.json"));
+  const auto score = ambler::io::readFloatTiff(dir / "ff" / "score.tif");
+  EXPECT_EQ(score.rows, header["rows"].get<int>());
+  EXPECT_EQ(score.cols, header["cols"].get<int>());
+  float lowest = INFINITY;
+  int valid = 0;
+  for (const float v : score.pixels)
+    if (std::isfinite(v)) lowest = std::min(lowest, v), ++valid;
+  EXPECT_EQ(valid, printed["valid"].get<int>());
+  EXPECT_GT(valid, 1000);
+  EXPECT_FLOAT_EQ(printed["best"]["score"].get<float>(), lowest);
+
+  run = runCli("footfall" + map + " --region=-1,7,1,9 --criterion composite --scanner 0,0,90,60 " +
+               "--out " + (dir / "cost").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  for (const char* f : {"score.tif", "roughness.tif", "slope.tif", "body_advance.tif",
+                        "visibility.tif", "footfall.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "cost" / f)) << f;
+
+  run = runCli("footfall" + map + " --region=50,50,51,51 --out " + (dir / "x").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.out.find("no cell centre of the map"), std::string::npos) << run.out;
+  run = runCli("footfall" + map + " --region=-1,7,1,9 --criterion composite --leg 1 --out " +
+               (dir / "x").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.out.find("X,Y"), std::string::npos) << run.out;
+}
+
 // A small slice of `eval elevation`: the locus method beats binning at each
 // noise level and finds the shadows (docs and README carry the full run).
 TEST(Cli, EvalElevationShowsLocusBeatingBinning) {

@@ -1,0 +1,109 @@
+#include "footfall/CostMaps.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "footfall/Footprint.h"
+
+namespace ambler::footfall {
+
+namespace {
+
+void requireRange(bool ok, const char* field, const char* range) {
+  if (!ok)
+    throw std::invalid_argument(std::string("cost map option ") + field + " must be " + range);
+}
+
+ScoreMap costMap(const GridSpec& grid, const char* name) {
+  return {grid, terrain::Layer::Constant(grid.rows, grid.cols, NAN), name, "1"};
+}
+
+double wrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
+
+}  // namespace
+
+void validate(const CostMapOptions& o) {
+  validate(o.foot);
+  const auto& l = o.limits;
+  requireRange(l.reach_min_m >= 0 && l.reach_max_m > l.reach_min_m && l.reach_max_m <= 50,
+               "limits.reach_min_m/reach_max_m", "0 <= min < max <= 50 m");
+  requireRange(l.elevation_max_m > l.elevation_min_m && std::isfinite(l.elevation_min_m) &&
+                   std::isfinite(l.elevation_max_m),
+               "limits.elevation_min_m/elevation_max_m", "finite with min < max");
+  const auto& w = o.weights;
+  for (const double v : {w.roughness, w.slope, w.body_advance, w.visibility})
+    requireRange(v >= 0 && v <= 1000, "weights", "in [0, 1000]");
+  requireRange(o.roughness_scale > 0 && std::isfinite(o.roughness_scale), "roughness_scale",
+               "a positive number");
+  requireRange(o.max_body_advance_m > 0 && o.max_body_advance_m <= 50, "max_body_advance_m",
+               "in (0, 50] m");
+}
+
+double bodyAdvance(const Eigen::Vector2d& foot, const LegContext& leg, double reach_max,
+                   double max_advance) {
+  const Eigen::Vector2d h(std::cos(leg.heading_rad), std::sin(leg.heading_rad));
+  const Eigen::Vector2d q = foot - leg.shaft;
+  const double along = q.dot(h), across2 = q.squaredNorm() - along * along;
+  if (across2 > reach_max * reach_max) return 0.0;
+  // The shaft moves to shaft + d h; the foot stays within reach while
+  // |q - d h| <= reach_max.
+  return std::clamp(along + std::sqrt(reach_max * reach_max - across2), 0.0, max_advance);
+}
+
+double linkInView(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
+                  const ScannerView& scanner) {
+  constexpr int kSamples = 33;
+  int inside = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const Eigen::Vector2d p = shaft + (foot - shaft) * (i / double(kSamples - 1));
+    const Eigen::Vector2d d = p - scanner.position;
+    if (d.squaredNorm() < 1e-6) continue;
+    const double off_axis = wrapAngle(std::atan2(d.y(), d.x()) - scanner.heading_rad);
+    inside += std::abs(off_axis) <= scanner.horizontal_fov_rad / 2 ? 1 : 0;
+  }
+  return inside / double(kSamples);
+}
+
+CostMaps buildCostMaps(const terrain::ElevationMap& map, const Box2& region, const LegContext& leg,
+                       const CostMapOptions& o) {
+  validate(o);
+  const bool support = o.roughness_criterion == Criterion::kSupportArea;
+  const auto stats = computeFootprintStatistics(
+      map, region,
+      {o.foot.diameter_m, o.foot.sigma_margin, support ? o.foot.min_support_fraction : 0.0,
+       o.foot.support_bin_m});
+  const ScoreMap criterion = scoreMapOf(stats, o.roughness_criterion, o.foot);
+  const ScoreMap tilt = tiltMapOf(stats);
+  const GridSpec& g = stats.cells.grid;
+  CostMaps m{costMap(g, "roughness"), costMap(g, "slope"), costMap(g, "body_advance"),
+             costMap(g, "visibility"), costMap(g, "composite")};
+  const auto& l = o.limits;
+  const auto& w = o.weights;
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const int i = g.index(r, c);
+      if (!stats.valid[i] || !std::isfinite(criterion.score(r, c))) continue;
+      const Eigen::Vector2d p = g.cellCenter(r, c);
+      const double roughness = std::min(criterion.score(r, c) / o.roughness_scale, 1.0);
+      const double slope = std::min(tilt.score(r, c) / o.foot.max_tilt_deg, 1.0);
+      const double advance =
+          1.0 - bodyAdvance(p, leg, l.reach_max_m, o.max_body_advance_m) / o.max_body_advance_m;
+      const double visibility = leg.scanner ? linkInView(p, leg.shaft, *leg.scanner) : 0.0;
+      m.roughness.score(r, c) = float(roughness);
+      m.slope.score(r, c) = float(slope);
+      m.body_advance.score(r, c) = float(advance);
+      m.visibility.score(r, c) = float(visibility);
+      // Discrete constraints (cmu-1990 Table 1) threshold the composite.
+      const double reach = (p - leg.shaft).norm();
+      const double contact = stats.reference_z + stats.top[i] - leg.reference_z;
+      if (reach < l.reach_min_m || reach > l.reach_max_m || contact < l.elevation_min_m ||
+          contact > l.elevation_max_m)
+        continue;
+      m.composite.score(r, c) = float(w.roughness * roughness + w.slope * slope +
+                                      w.body_advance * advance + w.visibility * visibility);
+    }
+  return m;
+}
+
+}  // namespace ambler::footfall
