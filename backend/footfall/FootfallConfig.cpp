@@ -6,41 +6,36 @@
 
 namespace ambler::footfall {
 
-namespace {
-
-// Overwrites `value` when the object has the key.
-void take(const io::JsonFields& f, const char* key, double& value) {
-  if (f.has(key)) value = f.number(key);
-}
-
-}  // namespace
-
 CostMapOptions readFootfallConfig(const std::filesystem::path& path) {
   const auto json = io::readJsonFile(path);
   const io::JsonFields root(json, "footfall configuration '" + path.string() + "'");
   CostMapOptions o;
-  if (root.has("foot")) {
-    const auto f = root.object("foot");
-    take(f, "diameter_m", o.foot.diameter_m);
-    take(f, "min_support_fraction", o.foot.min_support_fraction);
-    take(f, "max_tilt_deg", o.foot.max_tilt_deg);
-    take(f, "sigma_margin", o.foot.sigma_margin);
-    take(f, "equilibrium_moment_weight", o.foot.equilibrium_moment_weight);
-    take(f, "support_bin_m", o.foot.support_bin_m);
-  }
-  if (root.has("limits")) {
-    const auto f = root.object("limits");
-    take(f, "reach_min_m", o.limits.reach_min_m);
-    take(f, "reach_max_m", o.limits.reach_max_m);
-    take(f, "elevation_min_m", o.limits.elevation_min_m);
-    take(f, "elevation_max_m", o.limits.elevation_max_m);
-  }
-  if (root.has("weights")) {
-    const auto f = root.object("weights");
-    take(f, "roughness", o.weights.roughness);
-    take(f, "slope", o.weights.slope);
-    take(f, "body_advance", o.weights.body_advance);
-    take(f, "visibility", o.weights.visibility);
+  // Numbers by section and key; a missing key keeps its default.
+  const struct {
+    const char* section;
+    const char* key;
+    double* value;
+  } numbers[] = {
+      {"foot", "diameter_m", &o.foot.diameter_m},
+      {"foot", "min_support_fraction", &o.foot.min_support_fraction},
+      {"foot", "max_tilt_deg", &o.foot.max_tilt_deg},
+      {"foot", "sigma_margin", &o.foot.sigma_margin},
+      {"foot", "equilibrium_moment_weight", &o.foot.equilibrium_moment_weight},
+      {"foot", "support_bin_m", &o.foot.support_bin_m},
+      {"limits", "reach_min_m", &o.limits.reach_min_m},
+      {"limits", "reach_max_m", &o.limits.reach_max_m},
+      {"limits", "elevation_min_m", &o.limits.elevation_min_m},
+      {"limits", "elevation_max_m", &o.limits.elevation_max_m},
+      {"weights", "roughness", &o.weights.roughness},
+      {"weights", "slope", &o.weights.slope},
+      {"weights", "body_advance", &o.weights.body_advance},
+      {"weights", "visibility", &o.weights.visibility},
+      {"roughness", "scale", &o.roughness_scale},
+  };
+  for (const auto& n : numbers) {
+    if (!root.has(n.section)) continue;
+    const auto f = root.object(n.section);
+    if (f.has(n.key)) *n.value = f.number(n.key);
   }
   if (root.has("roughness")) {
     const auto f = root.object("roughness");
@@ -53,9 +48,8 @@ CostMapOptions readFootfallConfig(const std::filesystem::path& path) {
                                 "equilibrium");
       o.roughness_criterion = *criterion;
     }
-    take(f, "scale", o.roughness_scale);
   }
-  take(root, "max_body_advance_m", o.max_body_advance_m);
+  if (root.has("max_body_advance_m")) o.max_body_advance_m = root.number("max_body_advance_m");
   try {
     validate(o);
   } catch (const std::invalid_argument& e) {
