@@ -19,7 +19,25 @@ ScoreMap costMap(const GridSpec& grid, const char* name) {
   return {grid, terrain::Layer::Constant(grid.rows, grid.cols, NAN), name, "1"};
 }
 
-double wrapAngle(double a) { return std::remainder(a, 2 * M_PI); }
+// Share of the segment a-b inside the wedge at `apex` of half-angle
+// `half` <= 90 deg about `axis`: the intersection of two half-planes, each
+// a linear bound on the segment's parameter.
+double shareInWedge(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& apex,
+                    double axis, double half) {
+  const Eigen::Vector2d inward[] = {{std::sin(axis + half), -std::cos(axis + half)},
+                                    {-std::sin(axis - half), std::cos(axis - half)}};
+  double lo = 0.0, hi = 1.0;
+  for (const auto& n : inward) {
+    const double f0 = n.dot(a - apex), f1 = n.dot(b - a);  // f0 + t f1 >= 0
+    if (f1 > 0)
+      lo = std::max(lo, -f0 / f1);
+    else if (f1 < 0)
+      hi = std::min(hi, -f0 / f1);
+    else if (f0 < 0)
+      return 0.0;
+  }
+  return std::max(hi - lo, 0.0);
+}
 
 }  // namespace
 
@@ -53,16 +71,12 @@ double bodyAdvance(const Eigen::Vector2d& foot, const LegContext& leg, double re
 
 double linkInView(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
                   const ScannerView& scanner) {
-  constexpr int kSamples = 33;
-  int inside = 0;
-  for (int i = 0; i < kSamples; ++i) {
-    const Eigen::Vector2d p = shaft + (foot - shaft) * (i / double(kSamples - 1));
-    const Eigen::Vector2d d = p - scanner.position;
-    if (d.squaredNorm() < 1e-6) continue;
-    const double off_axis = wrapAngle(std::atan2(d.y(), d.x()) - scanner.heading_rad);
-    inside += std::abs(off_axis) <= scanner.horizontal_fov_rad / 2 ? 1 : 0;
-  }
-  return inside / double(kSamples);
+  const double half = scanner.horizontal_fov_rad / 2;
+  // A view wider than 180 degrees is the complement of a narrow wedge.
+  if (half > M_PI / 2)
+    return 1.0 -
+           shareInWedge(foot, shaft, scanner.position, scanner.heading_rad + M_PI, M_PI - half);
+  return shareInWedge(foot, shaft, scanner.position, scanner.heading_rad, half);
 }
 
 CostMaps buildCostMaps(const terrain::ElevationMap& map, const Box2& region, const LegContext& leg,

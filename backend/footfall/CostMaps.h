@@ -70,7 +70,8 @@ double bodyAdvance(const Eigen::Vector2d& foot, const LegContext& leg, double re
                    double max_advance);
 
 // Share of the segment from the shaft to the foot that lies inside the
-// scanner's horizontal field of view, in [0, 1].
+// scanner's horizontal field of view, in [0, 1] (exact: the view is a
+// wedge, or the complement of one).
 double linkInView(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
                   const ScannerView& scanner);
 

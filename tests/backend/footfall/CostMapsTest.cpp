@@ -41,8 +41,13 @@ TEST(CostMaps, VisibilityIsTheShareOfTheLinkInTheScannersView) {
   const ScannerView scanner{{0, -1}, M_PI / 2, M_PI / 3};
   EXPECT_EQ(linkInView({0, 2}, {0, 0}, scanner), 1.0);
   // Along the x axis the link is in view while x <= tan(30 deg) * 1 m.
-  EXPECT_NEAR(linkInView({2, 0}, {0, 0}, scanner), 0.577 / 2, 1.0 / 33);
+  EXPECT_NEAR(linkInView({2, 0}, {0, 0}, scanner), std::tan(M_PI / 6) / 2, 1e-12);
   EXPECT_EQ(linkInView({0, -2}, {0, -1.5}, scanner), 0.0);  // behind the scanner
+  // A 270 degree view misses only the quarter behind it.
+  const ScannerView wide{{0, 0}, M_PI / 2, 1.5 * M_PI};
+  EXPECT_NEAR(linkInView({1, -1}, {-1, -1}, wide), 0.0, 1e-12);
+  EXPECT_NEAR(linkInView({2, -1}, {-2, -1}, wide), 0.5, 1e-12);
+  EXPECT_NEAR(linkInView({1, 1}, {-1, 1}, wide), 1.0, 1e-12);
 }
 
 TEST(CostMaps, DiscreteConstraintsThresholdTheComposite) {
