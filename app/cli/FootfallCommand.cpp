@@ -1,7 +1,6 @@
 // ambler-cli footfall: score maps of the footfall criteria (krotkov1989 §4)
 // or the gait planner's composite cost map (cmu-1990) over a region of an
 // elevation map, and the best foothold.
-#include <algorithm>
 #include <filesystem>
 #include <memory>
 
@@ -11,7 +10,6 @@
 #include "footfall/CostMaps.h"
 #include "footfall/FootfallConfig.h"
 #include "io/Json.h"
-#include "io/Tiff.h"
 #include "terrain/ElevationMapFile.h"
 #include "terrain/Queries.h"
 
@@ -32,12 +30,6 @@ struct FootfallArgs {
   std::string reference_z;
   std::string scanner;
 };
-
-void writeScoreMap(const footfall::ScoreMap& m, const fs::path& file) {
-  io::FloatImage image(m.grid.rows, m.grid.cols);
-  std::copy(m.score.data(), m.score.data() + m.score.size(), image.pixels.begin());
-  io::writeTiff(file, image);
-}
 
 nlohmann::json footholdJson(const footfall::Foothold& f) {
   if (!f.found) return {{"found", false}};
@@ -91,7 +83,7 @@ void runFootfall(const FootfallArgs& a) {
     const auto leg = legFrom(a, map, region, options);
     const auto costs = footfall::buildCostMaps(map, region, leg, options);
     for (const auto* m : {&costs.roughness, &costs.slope, &costs.body_advance, &costs.visibility})
-      writeScoreMap(*m, fs::path(a.out) / (m->name + ".tif"));
+      terrain::writeLayer(m->score, fs::path(a.out) / (m->name + ".tif"));
     score = costs.composite;
     result["leg"] = {{"shaft", {leg.shaft.x(), leg.shaft.y()}},
                      {"heading_deg", a.heading_deg},
@@ -102,7 +94,7 @@ void runFootfall(const FootfallArgs& a) {
                                         options.foot);
   }
   const double eval_ms = millisecondsSince(eval_start);
-  writeScoreMap(score, fs::path(a.out) / "score.tif");
+  terrain::writeLayer(score.score, fs::path(a.out) / "score.tif");
   nlohmann::json header = io::gridJson(score.grid);
   header["criterion"] = a.criterion;
   header["unit"] = score.unit;

@@ -15,10 +15,6 @@ void requireRange(bool ok, const char* field, const char* range) {
     throw std::invalid_argument(std::string("cost map option ") + field + " must be " + range);
 }
 
-ScoreMap costMap(const GridSpec& grid, const char* name) {
-  return {grid, terrain::Layer::Constant(grid.rows, grid.cols, NAN), name, "1"};
-}
-
 // Share of the segment a-b inside the wedge at `apex` of half-angle
 // `half` <= 90 deg about `axis`: the intersection of two half-planes, each
 // a linear bound on the segment's parameter.
@@ -82,16 +78,14 @@ double linkInView(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
 CostMaps buildCostMaps(const terrain::ElevationMap& map, const Box2& region, const LegContext& leg,
                        const CostMapOptions& o) {
   validate(o);
-  const bool support = o.roughness_criterion == Criterion::kSupportArea;
-  const auto stats = computeFootprintStatistics(
-      map, region,
-      {o.foot.diameter_m, o.foot.sigma_margin, support ? o.foot.min_support_fraction : 0.0,
-       o.foot.support_bin_m});
+  const auto stats =
+      footprintStatistics(map, region, o.foot, o.roughness_criterion == Criterion::kSupportArea);
   const ScoreMap criterion = scoreMapOf(stats, o.roughness_criterion, o.foot);
   const ScoreMap tilt = tiltMapOf(stats);
   const GridSpec& g = stats.cells.grid;
-  CostMaps m{costMap(g, "roughness"), costMap(g, "slope"), costMap(g, "body_advance"),
-             costMap(g, "visibility"), costMap(g, "composite")};
+  auto cost = [&](const char* name) { return ScoreMap::empty(g, name, "1"); };
+  CostMaps m{cost("roughness"), cost("slope"), cost("body_advance"), cost("visibility"),
+             cost("composite")};
   const auto& l = o.limits;
   const auto& w = o.weights;
   for (int r = 0; r < g.rows; ++r)

@@ -13,11 +13,6 @@ namespace {
 constexpr std::array<std::string_view, 5> kNames{"maxmin", "planar", "support", "freevolume",
                                                  "equilibrium"};
 
-StatisticsRequest requestFor(const FootOptions& o, bool support) {
-  validate(o);
-  return {o.diameter_m, o.sigma_margin, support ? o.min_support_fraction : 0.0, o.support_bin_m};
-}
-
 // Least-squares plane z = a x + b y + c under the foot. Over the symmetric
 // disk the normal equations decouple: a = sum(xz) / sum(x^2), likewise b.
 struct PlaneFit {
@@ -60,12 +55,6 @@ double scoreAt(const FootprintStatistics& s, int i, Criterion criterion, const F
   return NAN;
 }
 
-ScoreMap emptyScoreMap(const FootprintStatistics& s, std::string name, std::string unit) {
-  ScoreMap m{s.cells.grid, terrain::Layer::Constant(s.cells.grid.rows, s.cells.grid.cols, NAN),
-             std::move(name), std::move(unit)};
-  return m;
-}
-
 void requireRange(bool ok, const char* field, const char* range) {
   if (!ok)
     throw std::invalid_argument(std::string("footfall option ") + field + " must be " + range);
@@ -97,6 +86,19 @@ void validate(const FootOptions& o) {
                "in [1e-6, 0.1] m");
 }
 
+ScoreMap ScoreMap::empty(const GridSpec& grid, std::string name, std::string unit) {
+  return {grid, terrain::Layer::Constant(grid.rows, grid.cols, NAN), std::move(name),
+          std::move(unit)};
+}
+
+FootprintStatistics footprintStatistics(const terrain::ElevationMap& map, const Box2& region,
+                                        const FootOptions& o, bool with_support) {
+  validate(o);
+  return computeFootprintStatistics(
+      map, region,
+      {o.diameter_m, o.sigma_margin, with_support ? o.min_support_fraction : 0.0, o.support_bin_m});
+}
+
 int ScoreMap::validCount() const {
   int n = 0;
   for (int i = 0; i < score.size(); ++i) n += std::isfinite(score.data()[i]) ? 1 : 0;
@@ -123,14 +125,13 @@ Foothold bestFoothold(const ScoreMap& map) {
 
 ScoreMap evaluateFootfalls(const terrain::ElevationMap& map, const Box2& region,
                            Criterion criterion, const FootOptions& options) {
-  const auto s = computeFootprintStatistics(
-      map, region, requestFor(options, criterion == Criterion::kSupportArea));
+  const auto s = footprintStatistics(map, region, options, criterion == Criterion::kSupportArea);
   return scoreMapOf(s, criterion, options);
 }
 
 std::vector<ScoreMap> evaluateAllCriteria(const terrain::ElevationMap& map, const Box2& region,
                                           const FootOptions& options) {
-  const auto s = computeFootprintStatistics(map, region, requestFor(options, true));
+  const auto s = footprintStatistics(map, region, options, true);
   std::vector<ScoreMap> maps;
   for (const Criterion c : kAllCriteria) maps.push_back(scoreMapOf(s, c, options));
   return maps;
@@ -138,19 +139,19 @@ std::vector<ScoreMap> evaluateAllCriteria(const terrain::ElevationMap& map, cons
 
 ScoreMap planeTilt(const terrain::ElevationMap& map, const Box2& region,
                    const FootOptions& options) {
-  return tiltMapOf(computeFootprintStatistics(map, region, requestFor(options, false)));
+  return tiltMapOf(footprintStatistics(map, region, options, false));
 }
 
 ScoreMap scoreMapOf(const FootprintStatistics& s, Criterion criterion, const FootOptions& o) {
-  ScoreMap m = emptyScoreMap(s, std::string(criterionName(criterion)),
-                             std::string(criterionUnit(criterion)));
+  ScoreMap m = ScoreMap::empty(s.cells.grid, std::string(criterionName(criterion)),
+                               std::string(criterionUnit(criterion)));
   for (int i = 0; i < s.size(); ++i)
     if (s.valid[i]) m.score.data()[i] = float(scoreAt(s, i, criterion, o));
   return m;
 }
 
 ScoreMap tiltMapOf(const FootprintStatistics& s) {
-  ScoreMap m = emptyScoreMap(s, "slope", "deg");
+  ScoreMap m = ScoreMap::empty(s.cells.grid, "slope", "deg");
   for (int i = 0; i < s.size(); ++i)
     if (s.valid[i]) m.score.data()[i] = float(fitPlane(s, i).tilt_deg);
   return m;

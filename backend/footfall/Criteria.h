@@ -50,6 +50,8 @@ struct ScoreMap {
   std::string name;
   std::string unit;
   int validCount() const;
+  // All NaN: nowhere to stand yet.
+  static ScoreMap empty(const GridSpec& grid, std::string name, std::string unit);
 };
 
 struct Foothold {
@@ -78,9 +80,12 @@ std::vector<ScoreMap> evaluateAllCriteria(const terrain::ElevationMap& map, cons
 ScoreMap planeTilt(const terrain::ElevationMap& map, const Box2& region,
                    const FootOptions& options = {});
 
-// The same from statistics already computed (footfall/Footprint.h), for
-// callers that need several maps of one region.
+// The same from statistics computed once (footfall/Footprint.h), for
+// callers that need several maps of one region; the support area's order
+// statistic only `with_support`.
 struct FootprintStatistics;
+FootprintStatistics footprintStatistics(const terrain::ElevationMap& map, const Box2& region,
+                                        const FootOptions& options, bool with_support);
 ScoreMap scoreMapOf(const FootprintStatistics& stats, Criterion criterion,
                     const FootOptions& options);
 ScoreMap tiltMapOf(const FootprintStatistics& stats);

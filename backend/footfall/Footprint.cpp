@@ -161,8 +161,7 @@ void computeKthHighest(const Window& w, const std::vector<double>& lo, double fr
     if (w.known[i]) lowest = std::min(lowest, lo[i]), highest = std::max(highest, lo[i]);
   if (!(highest >= lowest)) return;
   // At most 4 million bins, whatever the relief.
-  s.support_bin_m = std::max(bin, (highest - lowest) / 4e6);
-  HeightHistogram histogram(lowest, highest, s.support_bin_m);
+  HeightHistogram histogram(lowest, highest, std::max(bin, (highest - lowest) / 4e6));
   const GridSpec& g = s.cells.grid;
   for (int r = 0; r < g.rows; ++r) {
     histogram.clear();

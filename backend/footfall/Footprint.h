@@ -48,10 +48,10 @@ struct FootprintStatistics {
   std::vector<double> sum_lo, sum_xlo, sum_ylo;
   std::vector<double> sum_var;  // sum of sigma^2 [m^2]
   // The k-th highest z_lo with k = ceil(support_fraction N), resolved to
-  // `support_bin_m` and rounded up to its bin's upper edge; empty unless
+  // the request's support_bin_m (coarser if the relief needs more than 4
+  // million bins) and rounded up to its bin's upper edge; empty unless
   // asked for.
   std::vector<double> kth_highest_lo;
-  double support_bin_m = 0.0;
 
   int size() const { return cells.grid.cellCount(); }
 };

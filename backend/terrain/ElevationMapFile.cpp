@@ -11,24 +11,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-io::FloatImage toImage(const Layer& layer) {
-  io::FloatImage image(int(layer.rows()), int(layer.cols()));
-  std::copy(layer.data(), layer.data() + layer.size(), image.pixels.begin());
-  return image;
-}
-
 void requireMapSize(const io::FloatImage& image, const GridSpec& g, const fs::path& path) {
   io::requireSize(image, g.rows, g.cols, path, "map.json");
 }
 
 }  // namespace
 
+void writeLayer(const Layer& layer, const fs::path& file) {
+  io::FloatImage image(int(layer.rows()), int(layer.cols()));
+  std::copy(layer.data(), layer.data() + layer.size(), image.pixels.begin());
+  io::writeTiff(file, image);
+}
+
 void writeElevationMap(const ElevationMap& map, const fs::path& dir) {
   fs::create_directories(dir);
   const auto& g = map.grid();
-  io::writeTiff(dir / "elevation.tif", toImage(map.layer(layer::kElevation)));
-  io::writeTiff(dir / "sigma.tif", toImage(map.layer(layer::kSigma)));
-  io::writeTiff(dir / "count.tif", toImage(map.layer(layer::kCount)));
+  writeLayer(map.layer(layer::kElevation), dir / "elevation.tif");
+  writeLayer(map.layer(layer::kSigma), dir / "sigma.tif");
+  writeLayer(map.layer(layer::kCount), dir / "count.tif");
   io::ByteImage state(g.rows, g.cols);
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) state(r, c) = std::uint8_t(map.state(r, c));

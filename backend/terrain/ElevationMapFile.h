@@ -12,6 +12,9 @@ namespace ambler::terrain {
 // written last, so a folder with it is complete.
 void writeElevationMap(const ElevationMap& map, const std::filesystem::path& dir);
 
+// One layer as a float32 TIFF, written atomically (io::writeTiff).
+void writeLayer(const Layer& layer, const std::filesystem::path& file);
+
 // Throws io::FormatError naming the file and the problem: missing or
 // malformed header, layer of the wrong size, unknown state code, a known
 // cell without a finite height and non-negative sigma.

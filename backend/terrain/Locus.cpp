@@ -225,10 +225,14 @@ double LocusSolver::columnOf(double sin_theta) const {
   return std::isnan(col) ? -1e9 : col;  // NaN: off the image
 }
 
-// The row of direction (y, z) in the sensor's y-z plane; NaN off the image.
+// The fractional row of direction (y, z) in the sensor's y-z plane; atan2
+// where the table does not reach.
 double LocusSolver::rowOf(double y, double z) const {
   const double y_mid = y * cos_mid_ + z * sin_mid_, z_mid = z * cos_mid_ - y * sin_mid_;
-  if (y_mid > 0 && !row_table_.empty()) return row_table_(z_mid / y_mid);
+  if (y_mid > 0 && !row_table_.empty()) {
+    const double row = row_table_(z_mid / y_mid);
+    if (!std::isnan(row)) return row;
+  }
   return g_.row(std::atan2(z, y));
 }
 
@@ -286,7 +290,6 @@ RowSample LocusSolver::sampleRow(const Line& line, int row) const {
 int LocusSolver::startRow(const Line& line, double z) const {
   const Eigen::Vector3d p = line.a + z * line.b;
   double row = rowOf(p.y(), p.z());
-  if (std::isnan(row)) row = g_.row(std::atan2(p.z(), p.y()));  // off the table
   // Rounded to the nearest row; truncation is a floor on positive numbers.
   row = std::clamp(std::isfinite(row) ? row : 0.0, -1.0, double(g_.rows));
   return std::clamp(int(row + 1.5) - 1, 0, g_.rows - 1);
