@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   ambler::cli::addMap(app);
   ambler::cli::addEval(app);
   ambler::cli::addFootfall(app);
+  ambler::cli::addWalk(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,304 @@
+#include "gait/GaitPlanner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "core/Region.h"
+#include "terrain/Queries.h"
+
+namespace ambler::gait {
+
+namespace {
+
+// Where the circulating gait wants leg's foot (body frame): one pitch
+// beyond the foremost foot of its stack along the motion at its shaft, at
+// the tread, pulled in to stay 0.1 m inside the reach.
+Eigen::Vector2d idealFoothold(const Stance& stance, const Heading& heading, const RoverModel& model,
+                              const GaitOptions& gait, int leg) {
+  const Eigen::Vector2d shaft = model.shaftOf(leg);
+  const Eigen::Vector2d d = heading.motionAt(shaft);
+  Eigen::Vector2d out(d.y(), -d.x());
+  if (out.dot(shaft) < 0) out = -out;
+  double front = -INFINITY;
+  for (int i = 0; i < kLegCount; ++i)
+    if (i != leg && model.shaft_of_leg[std::size_t(i)] == model.shaft_of_leg[std::size_t(leg)])
+      front = std::max(
+          front,
+          (stance.body.toBody(Eigen::Vector2d(stance.feet[std::size_t(i)].head<2>())) - shaft)
+              .dot(d));
+  const double lateral = gait.tread_m - std::abs(shaft.x());
+  const double reach = model.extension_max_m - 0.1;
+  const double along_max = std::sqrt(std::max(reach * reach - lateral * lateral, 0.0));
+  const double along = std::min(front + gait.pitch_m, along_max);
+  return shaft + along * d + lateral * out;
+}
+
+double headingAngle(const BodyPose& body, const Eigen::Vector2d& body_direction) {
+  const Eigen::Vector2d w = body.rotation() * body_direction;
+  return std::atan2(w.y(), w.x());
+}
+
+double soleHeight(const terrain::ElevationMap& map, const Eigen::Vector2d& xy, double radius) {
+  return terrain::summarize(map, Disk{xy, radius}).max_z;
+}
+
+double uMax(const Heading& heading, const GaitOptions& g) {
+  const double w = std::abs(heading.turnPerUnit());
+  if (heading.isPointTurn()) return g.max_body_turn_rad;
+  return w > 0 ? std::min(g.max_body_advance_m, g.max_body_turn_rad / w) : g.max_body_advance_m;
+}
+
+// Tries the cheapest cells of leg's composite cost map until one keeps
+// every constraint and leaves a body move after which a leg can lift.
+std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& heading,
+                                         const terrain::ElevationMap& map, const GaitContext& ctx,
+                                         const std::optional<footfall::ScannerView>& scanner,
+                                         int leg, double widen) {
+  const RoverModel& m = ctx.model;
+  const Eigen::Vector2d ideal =
+      stance.body.toWorld(idealFoothold(stance, heading, m, ctx.gait, leg));
+  const Eigen::Vector2d d = heading.motionAt(m.shaftOf(leg));
+  const Eigen::Vector2d lateral = stance.body.rotation() * Eigen::Vector2d(d.y(), -d.x());
+  const double h = ctx.gait.search_half_m * widen;
+  const Box2 region{ideal.x() - h, ideal.y() - h, ideal.x() + h, ideal.y() + h};
+  const Box2 bounds = map.grid().bounds();
+  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
+      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
+    return std::nullopt;
+  const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
+                     std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
+
+  footfall::LegContext lc;
+  lc.shaft = stance.body.toWorld(m.shaftOf(leg));
+  lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(leg)));
+  lc.reference_z = stance.body.link_z - m.link_plane_nominal_m;
+  lc.scanner = scanner;
+  footfall::CostMapOptions fo = ctx.footfall;
+  fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
+  fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
+  const footfall::CostMaps maps = footfall::buildCostMaps(map, clipped, lc, fo);
+
+  // Cheapest first; among equals, nearest the pattern's foothold (a foot
+  // placed too far ahead would leave the rear leg unable to lift later).
+  const auto& score = maps.composite.score;
+  const GridSpec& g = maps.composite.grid;
+  std::vector<std::pair<double, int>> order;
+  for (int i = 0; i < int(score.size()); ++i)
+    if (std::isfinite(score.data()[i]))
+      order.push_back({score.data()[i] + ctx.gait.pattern_weight *
+                                             (g.cellCenter(i / g.cols, i % g.cols) - ideal).norm(),
+                       i});
+  std::sort(order.begin(), order.end());
+  // The cheapest cell that keeps every constraint, preferring one after
+  // which the leg due next can still lift (else the walk may dead-end).
+  std::optional<LegCandidate> fallback;
+  const int tries = std::min<int>(int(order.size()), ctx.gait.max_candidates_per_leg);
+  for (int k = 0; k < tries; ++k) {
+    const int cell = order[std::size_t(k)].second;
+    const Eigen::Vector2d xy = g.cellCenter(cell / g.cols, cell % g.cols);
+    // Keep the tread: the stance's CSP depends on it more than on the pitch.
+    if (std::abs((xy - ideal).dot(lateral)) > ctx.gait.tread_tolerance_m * widen) continue;
+    const double z = soleHeight(map, xy, 0.5 * m.foot_diameter_m);
+    if (!std::isfinite(z)) continue;
+    Stance placed = stance;
+    placed.feet[std::size_t(leg)] = {xy.x(), xy.y(), z};
+    if (!checkStance(placed, m, ctx.gait.csp_margin_m).ok()) continue;
+    Stance raised = placed;
+    raised.body.link_z = linkHeightFor(placed, m);
+    if (!checkStance(raised, m, ctx.gait.csp_margin_m).ok()) continue;
+    const BodyMoveLimit next = bodyMoveKeepingALegFree(raised, heading, ctx);
+    // A placement that frees no advance is still worth it when it lets the
+    // leg that blocks the body lift next (a shuffle step).
+    const auto freed = liftableLegs(raised, m, ctx.gait.csp_margin_m);
+    const bool unblocks = next.leg >= 0 && next.leg != leg &&
+                          std::find(freed.begin(), freed.end(), next.leg) != freed.end();
+    if (next.u < 0.0 || (next.u < ctx.gait.body_step_m && !unblocks)) continue;
+    LegCandidate c;
+    c.leg = leg;
+    c.foothold = placed.feet[std::size_t(leg)];
+    c.local_advance = std::max(next.u, ctx.gait.body_step_m);
+    c.keeps_cycle = next.next_can_lift;
+    c.global_advance = footfall::bodyAdvance(xy, lc, m.extension_max_m, 10.0);
+    c.support_area = area(conservativeSupportPolygon(raised.supportingFeet()));
+    if (c.keeps_cycle) return c;
+    if (!fallback) fallback = c;
+  }
+  return fallback;
+}
+
+}  // namespace
+
+void validate(const GaitOptions& g) {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(what);
+  };
+  require(g.tread_m > 0 && g.tread_m < 20, "gait.tread_m must be in (0, 20)");
+  require(g.pitch_m > 0 && g.pitch_m < 10, "gait.pitch_m must be in (0, 10)");
+  require(g.max_body_advance_m > 0 && g.max_body_advance_m <= 3.9,
+          "gait.max_body_advance_m must be in (0, 3.9] (the Ambler's maximum body advance)");
+  require(g.max_body_turn_rad > 0 && g.max_body_turn_rad <= M_PI / 2,
+          "gait.max_body_turn_deg must be in (0, 90]");
+  require(g.csp_margin_m >= 0 && g.csp_margin_m < 2, "gait.csp_margin_m must be in [0, 2)");
+  require(g.search_half_m > 0 && g.search_half_m <= 3, "gait.search_half_m must be in (0, 3]");
+  require(g.tread_tolerance_m > 0 && g.tread_tolerance_m <= 3,
+          "gait.tread_tolerance_m must be in (0, 3]");
+  require(g.pattern_weight >= 0 && g.pattern_weight <= 100,
+          "gait.pattern_weight must be in [0, 100]");
+  require(g.body_step_m > 0 && g.body_step_m <= 0.5, "gait.body_step_m must be in (0, 0.5]");
+  require(g.max_candidates_per_leg >= 1, "gait.max_candidates_per_leg must be >= 1");
+}
+
+ClearanceField clearanceFrom(const terrain::ElevationMap& map) {
+  return [&map](const Eigen::Vector2d& xy, double radius) {
+    double top = -INFINITY;
+    bool unknown = false;
+    forEachCellIn(map.grid(), Disk{xy, radius}, [&](int r, int c) {
+      if (!map.isKnown(r, c))
+        unknown = true;
+      else
+        top = std::max(top, double(map.elevation(r, c)) + 2.0 * double(map.sigma(r, c)));
+    });
+    return unknown || !std::isfinite(top) ? NAN : top;
+  };
+}
+
+double linkHeightFor(const Stance& stance, const RoverModel& m) {
+  double lo = -INFINITY, hi = INFINITY, sum = 0.0;
+  int n = 0;
+  for (int i = 0; i < kLegCount; ++i) {
+    if (!stance.supporting[std::size_t(i)]) continue;
+    const double z = stance.feet[std::size_t(i)].z();
+    lo = std::max(lo, z + m.vertical_min_m + 0.2);
+    hi = std::min(hi, z + m.vertical_max_m - 0.2);
+    sum += z;
+    ++n;
+  }
+  const double want = sum / std::max(n, 1) + m.link_plane_nominal_m;
+  return lo <= hi ? std::clamp(want, lo, hi) : want;
+}
+
+// The supporting leg with the least travel left before its reach stops
+// the body: the one that must recover next.
+int nextToRecover(const Stance& stance, const Heading& heading, const RoverModel& m) {
+  int worst = -1;
+  double least = INFINITY;
+  for (int i = 0; i < kLegCount; ++i) {
+    if (!stance.supporting[std::size_t(i)]) continue;
+    footfall::LegContext lc;
+    lc.shaft = stance.body.toWorld(m.shaftOf(i));
+    lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(i)));
+    const double left =
+        footfall::bodyAdvance(stance.feet[std::size_t(i)].head<2>(), lc, m.extension_max_m, 10.0);
+    if (left < least) least = left, worst = i;
+  }
+  return worst;
+}
+
+BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
+                                      const GaitContext& ctx) {
+  const auto& g = ctx.gait;
+  BodyMoveLimit limit =
+      maxBodyMove(stance, heading, ctx.model, g.csp_margin_m, uMax(heading, g), g.body_step_m);
+  // Prefer to stop where the leg that must recover next can lift; else
+  // where any leg can.
+  for (bool strict : {true, false})
+    for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
+      const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
+      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m);
+      const bool ok = strict ? std::find(free.begin(), free.end(),
+                                         nextToRecover(moved, heading, ctx.model)) != free.end()
+                             : !free.empty();
+      if (ok) {
+        limit.u = std::max(u, 0.0);
+        limit.next_can_lift = strict;
+        return limit;
+      }
+    }
+  limit.u = -1.0;
+  return limit;
+}
+
+StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
+                  const GaitContext& ctx, const std::optional<footfall::ScannerView>& scanner) {
+  StepPlan plan;
+  const auto& m = ctx.model;
+  // Around the ideal footholds first; where obstacles or unknown ground
+  // leave nothing there, over wider areas (2x, 3x) before giving up.
+  const auto legs = liftableLegs(stance, m, ctx.gait.csp_margin_m);
+  for (double widen : {1.0, 2.0, 3.0}) {
+    for (int leg : legs)
+      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, widen))
+        plan.candidates.push_back(*c);
+    const bool cycle = std::any_of(plan.candidates.begin(), plan.candidates.end(),
+                                   [](const LegCandidate& c) { return c.keeps_cycle; });
+    if (cycle) break;
+  }
+
+  // cmu-1990 'Planning strategies' fig. 8: normalised product of the metrics.
+  double top_local = 0, top_global = 0, top_area = 0;
+  for (const auto& c : plan.candidates) {
+    top_local = std::max(top_local, c.local_advance);
+    top_global = std::max(top_global, c.global_advance);
+    top_area = std::max(top_area, c.support_area);
+  }
+  // A placement after which the leg due next cannot lift risks a dead end:
+  // it only wins when nothing else is possible.
+  for (auto& c : plan.candidates)
+    c.merit = (c.local_advance / top_local) * (c.global_advance / std::max(top_global, 1e-9)) *
+              (c.support_area / std::max(top_area, 1e-9)) * (c.keeps_cycle ? 1.0 : 0.01);
+  std::vector<LegCandidate> ranked = plan.candidates;
+  std::sort(ranked.begin(), ranked.end(),
+            [](const auto& a, const auto& b) { return a.merit > b.merit; });
+
+  Stance placed = stance;
+  for (const auto& c : ranked) {
+    RecoveryPlan r =
+        planLegRecovery(m, stance, c.leg, c.foothold, clearanceFrom(map), ctx.recovery);
+    if (!r.found) continue;
+    plan.leg = c.leg;
+    plan.foothold = c.foothold;
+    plan.recovery = std::move(r);
+    placed.feet[std::size_t(c.leg)] = c.foothold;
+    plan.min_csp_margin = marginWithout(stance, m, c.leg);
+    break;
+  }
+  placed.body.link_z = linkHeightFor(placed, m);
+  plan.after_leg = placed;
+  const BodyMoveLimit move = bodyMoveKeepingALegFree(placed, heading, ctx);
+  const double u = move.u;
+  const Constraint stopped = move.stopped_by;
+  if (u < ctx.gait.body_step_m && plan.leg < 0) {
+    plan.reason = plan.candidates.empty() ? "no leg can lift and reach a known, stable foothold"
+                                          : "no collision-free leg recovery";
+    return plan;
+  }
+  plan.body_u = std::max(u, 0.0);
+  plan.after = moveBody(placed, heading, plan.body_u);
+  plan.reason = "body stopped by " + constraintName(stopped);
+  const double margin_after = checkStance(plan.after, m, 0.0).csp_margin_m;
+  const double margin_placed = checkStance(placed, m, 0.0).csp_margin_m;
+  plan.min_csp_margin = plan.leg < 0 ? std::min(margin_placed, margin_after)
+                                     : std::min({plan.min_csp_margin, margin_placed, margin_after});
+  plan.ok = true;
+  return plan;
+}
+
+Stance nominalStance(const BodyPose& body, const RoverModel& m, const GaitOptions& g) {
+  Stance s;
+  s.body = body;
+  // Staggered stacks so the centre of gravity sits in the CSP: the left
+  // stack at -1.25, -0.25, 0.75 pitches, the right at -0.75, 0.25, 1.25.
+  const double left[] = {-1.25, -0.25, 0.75}, right[] = {-0.75, 0.25, 1.25};
+  for (int i = 0; i < kLegCount; ++i) {
+    const bool is_left = m.shaft_of_leg[std::size_t(i)] == 0;
+    const double along = (is_left ? left : right)[i % 3] * g.pitch_m;
+    const Eigen::Vector2d foot =
+        body.toWorld(Eigen::Vector2d(is_left ? -g.tread_m : g.tread_m, along));
+    s.feet[std::size_t(i)] = {foot.x(), foot.y(), body.link_z - m.link_plane_nominal_m};
+  }
+  return s;
+}
+
+}  // namespace ambler::gait

@@ -1,0 +1,91 @@
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "footfall/CostMaps.h"
+#include "gait/LegRecovery.h"
+#include "gait/Stance.h"
+#include "terrain/ElevationMap.h"
+
+namespace ambler::gait {
+
+// The pattern and safety figures of the circulating gait (cmu-1990
+// 'Planning strategies', Gaits).
+struct GaitOptions {
+  double tread_m = 2.25;            // body axis to the feet (report: walking width 4.5 m)
+  double pitch_m = 1.5;             // foot spacing along the motion (report: 1.5 m)
+  double max_body_advance_m = 1.5;  // per body move (report: 1.5 m used, 3.9 m possible)
+  double max_body_turn_rad = 0.26;  // per body move (assumed)
+  double csp_margin_m = 0.10;       // centre of gravity inside the CSP by at least this
+  double search_half_m = 0.5;       // half side of the foothold search area around the ideal
+  double tread_tolerance_m = 0.25;  // footholds at most this far across the ideal
+  double pattern_weight = 0.5;      // composite cost added per metre from the ideal foothold
+  double body_step_m = 0.02;        // sampling of body moves (radians for point turns)
+  int max_candidates_per_leg = 60;  // cells tried, cheapest first, per leg
+};
+
+void validate(const GaitOptions& options);
+
+struct GaitContext {
+  RoverModel model;
+  GaitOptions gait;
+  footfall::CostMapOptions footfall;
+  RecoveryOptions recovery;
+};
+
+// Everything the planner weighed for one leg.
+struct LegCandidate {
+  int leg = -1;
+  Eigen::Vector3d foothold{0, 0, 0};
+  double local_advance = 0.0;   // next body move [m or rad]
+  double global_advance = 0.0;  // until this foot must recover again [m]
+  double support_area = 0.0;    // of the CSP after placement [m^2]
+  bool keeps_cycle = false;     // the leg due next can lift after the body move
+  double merit = 0.0;           // normalised product
+};
+
+// One step: a leg recovery (unless no leg can be lifted) and a body move.
+struct StepPlan {
+  bool ok = false;
+  std::string reason;  // why there is no plan, or what stopped the body
+  int leg = -1;        // -1: body move only
+  Eigen::Vector3d foothold{0, 0, 0};
+  RecoveryPlan recovery;
+  double body_u = 0.0;        // along the heading [m, or rad for point turns]
+  Stance after_leg;           // feet after the leg move, body before its move
+  Stance after;               // after the body move
+  double min_csp_margin = 0;  // over the recovery and the body move
+  std::vector<LegCandidate> candidates;
+};
+
+// Height field the leg recovery sees: highest z + 2 sigma under the disk,
+// NaN if any cell under it is not known.
+ClearanceField clearanceFrom(const terrain::ElevationMap& map);
+
+// Plans the next step of the walk along `heading` from `stance` on `map`.
+// Legs that may lift keep the centre of gravity in the CSP of the others;
+// each places its foot at the cheapest cell of its composite cost map
+// (footfall module) near its ideal circulating-gait foothold that keeps
+// every constraint; the legs are ranked by local advance x global advance x
+// CSP area, normalised; the winner's recovery is planned by A*. The body
+// then moves as far as the four constraints allow while some leg can still
+// lift at the end.
+StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
+                  const GaitContext& context,
+                  const std::optional<footfall::ScannerView>& scanner = std::nullopt);
+
+// The link-plane height for a stance: nominal above the mean foot, inside
+// every leg's vertical range.
+double linkHeightFor(const Stance& stance, const RoverModel& model);
+
+// The largest body move (<= the options' caps) after which some leg may
+// lift, and what stopped it; u is negative when there is none, not even at
+// u = 0.
+BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
+                                      const GaitContext& context);
+
+// A stance in the gait's regular pattern around `body`, feet on `ground_z`.
+Stance nominalStance(const BodyPose& body, const RoverModel& model, const GaitOptions& gait);
+
+}  // namespace ambler::gait

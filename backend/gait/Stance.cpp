@@ -1,0 +1,126 @@
+#include "gait/Stance.h"
+
+#include <cmath>
+
+namespace ambler::gait {
+
+Eigen::Matrix2d BodyPose::rotation() const {
+  const double c = std::cos(heading_rad), s = std::sin(heading_rad);
+  return (Eigen::Matrix2d() << c, -s, s, c).finished();
+}
+
+Eigen::Vector3d BodyPose::toWorld(const Eigen::Vector3d& body) const {
+  const Eigen::Vector2d p = toWorld(Eigen::Vector2d(body.head<2>()));
+  return {p.x(), p.y(), body.z() + link_z};
+}
+
+Eigen::Vector3d BodyPose::toBody(const Eigen::Vector3d& world) const {
+  const Eigen::Vector2d p = toBody(Eigen::Vector2d(world.head<2>()));
+  return {p.x(), p.y(), world.z() - link_z};
+}
+
+double Heading::turnPerUnit() const {
+  if (isPointTurn()) return point_turn_left ? 1.0 : -1.0;
+  return std::isinf(radius_m) ? 0.0 : 1.0 / radius_m;
+}
+
+BodyPose Heading::advance(const BodyPose& start, double u) const {
+  const double v = forwardPerUnit(), w = turnPerUnit();
+  const double turn = w * u;
+  // Exact integration of a constant twist; forward is body +y.
+  Eigen::Vector2d d;
+  if (std::abs(turn) < 1e-9)
+    d = {0.0, v * u};
+  else
+    d = {-(v / w) * (1.0 - std::cos(turn)), (v / w) * std::sin(turn)};
+  BodyPose p = start;
+  p.xy = start.toWorld(d);
+  p.heading_rad = start.heading_rad + turn;
+  return p;
+}
+
+Eigen::Vector2d Heading::motionAt(const Eigen::Vector2d& body_point) const {
+  const double w = turnPerUnit();
+  const Eigen::Vector2d v =
+      Eigen::Vector2d(0.0, forwardPerUnit()) + w * Eigen::Vector2d(-body_point.y(), body_point.x());
+  const double n = v.norm();
+  return n > 1e-12 ? Eigen::Vector2d(v / n) : Eigen::Vector2d(0.0, 1.0);
+}
+
+std::string constraintName(Constraint c) {
+  switch (c) {
+    case Constraint::kNone:
+      return "none";
+    case Constraint::kLegLeg:
+      return "leg-leg";
+    case Constraint::kLegBody:
+      return "leg-body";
+    case Constraint::kKinematic:
+      return "kinematic limits";
+    case Constraint::kConservativeSupport:
+      return "conservative support polygon";
+  }
+  return "?";
+}
+
+std::vector<Eigen::Vector2d> Stance::supportingFeet(int except) const {
+  std::vector<Eigen::Vector2d> out;
+  for (int i = 0; i < kLegCount; ++i)
+    if (supporting[std::size_t(i)] && i != except) out.push_back(feet[std::size_t(i)].head<2>());
+  return out;
+}
+
+StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin) {
+  StanceCheck check;
+  for (int i = 0; i < kLegCount; ++i) {
+    if (!stance.supporting[std::size_t(i)]) continue;
+    const Eigen::Vector3d f = stance.body.toBody(stance.feet[std::size_t(i)]);
+    if (!model.withinLimits(stance.joints(model, i))) return {Constraint::kKinematic, i};
+    const Eigen::Vector2d k = model.body_keepout_half;
+    if (std::abs(f.x()) < k.x() && std::abs(f.y()) < k.y()) return {Constraint::kLegBody, i};
+    for (const auto& shaft : model.shafts)
+      if ((f.head<2>() - shaft).norm() < model.shaft_clearance_m) return {Constraint::kLegBody, i};
+    for (int j = i + 1; j < kLegCount; ++j)
+      if (stance.supporting[std::size_t(j)] &&
+          (stance.feet[std::size_t(i)] - stance.feet[std::size_t(j)]).head<2>().norm() <
+              model.min_leg_separation_m)
+        return {Constraint::kLegLeg, i};
+  }
+  check.csp_margin_m = stabilityMargin(conservativeSupportPolygon(stance.supportingFeet()),
+                                       stance.centreOfGravity(model));
+  if (check.csp_margin_m < csp_margin) check.violated = Constraint::kConservativeSupport;
+  return check;
+}
+
+double marginWithout(const Stance& stance, const RoverModel& model, int leg) {
+  return stabilityMargin(conservativeSupportPolygon(stance.supportingFeet(leg)),
+                         stance.centreOfGravity(model));
+}
+
+std::vector<int> liftableLegs(const Stance& stance, const RoverModel& model, double csp_margin) {
+  std::vector<int> legs;
+  for (int i = 0; i < kLegCount; ++i)
+    if (stance.supporting[std::size_t(i)] && marginWithout(stance, model, i) >= csp_margin)
+      legs.push_back(i);
+  return legs;
+}
+
+Stance moveBody(const Stance& stance, const Heading& heading, double u) {
+  Stance moved = stance;
+  moved.body = heading.advance(stance.body, u);
+  return moved;
+}
+
+BodyMoveLimit maxBodyMove(const Stance& stance, const Heading& heading, const RoverModel& model,
+                          double csp_margin, double u_max, double step) {
+  BodyMoveLimit limit;
+  for (double u = step;; u += step) {
+    const double at = std::min(u, u_max);
+    const StanceCheck c = checkStance(moveBody(stance, heading, at), model, csp_margin);
+    if (!c.ok()) return {limit.u, c.violated, c.leg};
+    limit.u = at;
+    if (at >= u_max) return limit;
+  }
+}
+
+}  // namespace ambler::gait

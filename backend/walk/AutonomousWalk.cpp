@@ -1,0 +1,260 @@
+#include "walk/AutonomousWalk.h"
+
+#include <algorithm>
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include "footfall/FootfallConfig.h"
+#include "gait/DeadReckoning.h"
+#include "gait/RoverConfig.h"
+#include "sim/ObstacleCourse.h"
+#include "sim/RayCaster.h"
+#include "terrain/Locus.h"
+#include "terrain/Merge.h"
+
+namespace ambler::walk {
+
+WalkConfig readWalkConfig(const std::filesystem::path& rover_json,
+                          const std::filesystem::path& footfall_json,
+                          const std::filesystem::path& scanner_json) {
+  WalkConfig c;
+  c.gait = gait::readRoverConfig(rover_json);
+  c.gait.footfall = footfall::readFootfallConfig(footfall_json);
+  c.noise = sim::readExecutionNoise(rover_json);
+  c.scanner = sim::readScannerModel(scanner_json);
+  return c;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// A plan and the stance it was made from (the body move is relative to it).
+struct Planned {
+  gait::Stance from;
+  gait::StepPlan plan;
+  double ms = 0.0;
+};
+
+// What the rover did with one step: reports, and the encoder readings after
+// the leg move and after the body move. The truth is kept for scoring only.
+struct Executed {
+  sim::MoveReport leg, body;
+  std::array<sim::LegState, gait::kLegCount> after_leg{}, after_body{};
+  Eigen::Vector2d true_before_body{0, 0}, true_after_body{0, 0};
+};
+
+class Walker {
+ public:
+  Walker(const WalkConfig& config, const WalkOptions& options)
+      : cfg_(config),
+        opt_(options),
+        terrain_(sim::makeObstacleCourse({.seed = options.seed})),
+        caster_(terrain_),
+        map_(GridSpec::covering(options.map_extent, options.map_resolution_m)),
+        rover_(terrain_, config.gait.model, noiseFor(config.noise, options.seed),
+               sim::settleOnTerrain(gait::nominalStance({}, config.gait.model, config.gait.gait),
+                                    terrain_, config.gait.model)),
+        estimate_(rover_.truth()) {}
+
+  WalkResult run();
+
+ private:
+  static sim::ExecutionNoise noiseFor(sim::ExecutionNoise n, std::uint64_t seed) {
+    n.seed = n.seed * 1000003 + seed;
+    return n;
+  }
+  void perceive();
+  Planned plan(const gait::Stance& from);
+  Executed execute(const Planned& p);
+  void update(const Planned& p, const Executed& e);
+  bool diverged(const gait::Stance& predicted) const;
+
+  const WalkConfig& cfg_;
+  const WalkOptions& opt_;
+  sim::ProceduralTerrain terrain_;
+  sim::RayCaster caster_;
+  terrain::ElevationMap map_;
+  sim::RoverSim rover_;
+  gait::Stance estimate_;
+  WalkResult result_;
+  int scans_ = 0;
+};
+
+// A scan from where the rover really is, mapped where it believes it is.
+void Walker::perceive() {
+  const auto& m = cfg_.gait.model;
+  const gait::BodyPose& truth = rover_.truth().body;
+  const gait::BodyPose& est = estimate_.body;
+  auto mount = [&](const gait::BodyPose& b) {
+    return cfg_.scanner.mountPose({b.xy.x(), b.xy.y(), b.link_z - m.link_plane_nominal_m},
+                                  b.heading_rad);
+  };
+  sensor::RangeImage image = sim::simulateScan(caster_, cfg_.scanner, mount(truth),
+                                               opt_.seed * 1000 + std::uint64_t(scans_++));
+  image.sensor_to_world = mount(est);
+  const Box2 seen = sim::groundFootprint(cfg_.scanner, image.sensor_to_world,
+                                         est.link_z - m.link_plane_nominal_m);
+  // The window of the local terrain map under the scan, on its grid.
+  const GridSpec& g = map_.grid();
+  const int c0 = std::max(0, int(std::floor((seen.x_min - g.origin_x) / g.resolution)));
+  const int r0 = std::max(0, int(std::floor((seen.y_min - g.origin_y) / g.resolution)));
+  const int c1 = std::min(g.cols, int(std::ceil((seen.x_max - g.origin_x) / g.resolution)));
+  const int r1 = std::min(g.rows, int(std::ceil((seen.y_max - g.origin_y) / g.resolution)));
+  if (c1 <= c0 || r1 <= r0) return;
+  GridSpec window = g;
+  window.origin_x = g.origin_x + c0 * g.resolution;
+  window.origin_y = g.origin_y + r0 * g.resolution;
+  window.cols = c1 - c0;
+  window.rows = r1 - r0;
+  terrain::mergeInto(map_, terrain::buildLocusMap(image, window));
+}
+
+Planned Walker::plan(const gait::Stance& from) {
+  footfall::ScannerView view;
+  view.position = from.body.xy;
+  view.heading_rad = from.body.heading_rad + M_PI / 2;
+  view.horizontal_fov_rad = std::abs(cfg_.scanner.geometry.theta_step) * cfg_.scanner.geometry.cols;
+  const auto t0 = Clock::now();
+  Planned p{from, gait::planStep(from, opt_.heading, map_, cfg_.gait, view), 0.0};
+  p.ms = 1e3 * secondsSince(t0);
+  return p;
+}
+
+Executed Walker::execute(const Planned& p) {
+  Executed e;
+  auto wait = [&](double simulated_s) {
+    if (opt_.time_scale > 0)
+      std::this_thread::sleep_for(std::chrono::duration<double>(simulated_s * opt_.time_scale));
+  };
+  if (p.plan.leg >= 0) {
+    e.leg = rover_.executeLeg({p.plan.leg, p.plan.recovery.waypoints});
+    wait(e.leg.duration_s);
+  }
+  e.after_leg = rover_.legStates();
+  e.true_before_body = e.true_after_body = rover_.truth().body.xy;
+  e.after_body = e.after_leg;
+  if (!e.leg.completed) return e;  // the executive replans before moving the body
+  const gait::BodyPose& a = p.plan.after_leg.body;
+  const gait::BodyPose& b = p.plan.after.body;
+  e.body = rover_.executeBody(
+      {a.toBody(b.xy), b.heading_rad - a.heading_rad, b.link_z - p.from.body.link_z});
+  wait(e.body.duration_s);
+  e.true_after_body = rover_.truth().body.xy;
+  e.after_body = rover_.legStates();
+  return e;
+}
+
+// Stores the new foothold where the encoders put it, then dead-reckons the
+// body from the feet (cmu-1990 'Real-time control').
+void Walker::update(const Planned& p, const Executed& e) {
+  const auto& m = cfg_.gait.model;
+  WalkStep step;
+  step.leg = p.plan.leg;
+  step.foothold = p.plan.foothold;
+  step.body_u = p.plan.body_u;
+  step.plan_ms = p.ms;
+  step.execute_s = e.leg.duration_s + e.body.duration_s;
+  step.csp_margin_m = std::min(e.leg.min_csp_margin_m, e.body.min_csp_margin_m);
+  step.event = e.leg.event.empty() ? e.body.event : e.leg.event;
+  result_.leg_collisions += e.leg.collisions + e.body.collisions;
+
+  const gait::BodyPose before = estimate_.body;
+  if (p.plan.leg >= 0)
+    estimate_.feet[std::size_t(p.plan.leg)] =
+        before.toWorld(m.footInBody(p.plan.leg, e.after_leg[std::size_t(p.plan.leg)].joints));
+  std::vector<int> legs;
+  std::vector<Eigen::Vector3d> body, world;
+  for (int i = 0; i < gait::kLegCount; ++i) {
+    legs.push_back(i);
+    body.push_back(m.footInBody(i, e.after_body[std::size_t(i)].joints));
+    world.push_back(estimate_.feet[std::size_t(i)]);
+  }
+  const gait::DeadReckoningResult dr = gait::deadReckon(legs, body, world);
+  estimate_.body = dr.body;
+  for (int leg : dr.slipped_legs)
+    estimate_.feet[std::size_t(leg)] = estimate_.body.toWorld(body[std::size_t(leg)]);
+  step.slipped_feet_detected = int(dr.slipped_legs.size());
+  step.dead_reckoning_error_m =
+      ((estimate_.body.xy - before.xy) - (e.true_after_body - e.true_before_body)).norm();
+  result_.slips_detected += step.slipped_feet_detected;
+  result_.dead_reckoning_error_m =
+      std::max(result_.dead_reckoning_error_m, step.dead_reckoning_error_m);
+  result_.log.push_back(step);
+  ++result_.steps;
+}
+
+bool Walker::diverged(const gait::Stance& predicted) const {
+  if ((predicted.body.xy - estimate_.body.xy).norm() > 0.05) return true;
+  if (std::abs(predicted.body.heading_rad - estimate_.body.heading_rad) > 0.02) return true;
+  for (int i = 0; i < gait::kLegCount; ++i)
+    if ((predicted.feet[std::size_t(i)] - estimate_.feet[std::size_t(i)]).norm() > 0.05)
+      return true;
+  return false;
+}
+
+WalkResult Walker::run() {
+  const auto t0 = Clock::now();
+  const Eigen::Vector2d start = rover_.truth().body.xy;
+  perceive();
+  Planned next = plan(estimate_);
+  for (int k = 0; k < opt_.steps; ++k) {
+    if (!next.plan.ok) {
+      result_.stopped = next.plan.reason;
+      break;
+    }
+    const Planned current = std::move(next);
+    if (opt_.concurrent && k + 1 < opt_.steps) {
+      // TCA: the next step is planned on the predicted stance while this
+      // one executes; a surprise (slip, contact, drift) forces a replan.
+      auto running = std::async(std::launch::async, [&] { return execute(current); });
+      next = plan(current.plan.after);
+      const Executed done = running.get();
+      update(current, done);
+      perceive();
+      const bool surprise = !done.leg.event.empty() && done.leg.event != "touch-down";
+      if (surprise || diverged(current.plan.after)) {
+        next = plan(estimate_);
+        result_.log.back().replanned = true;
+        ++result_.replans;
+      }
+    } else {
+      update(current, execute(current));
+      if (k + 1 < opt_.steps) {
+        perceive();
+        next = plan(estimate_);
+      }
+    }
+  }
+  std::vector<double> ms;
+  for (const auto& s : result_.log) ms.push_back(s.plan_ms);
+  if (!ms.empty()) {
+    std::nth_element(ms.begin(), ms.begin() + long(ms.size() / 2), ms.end());
+    result_.plan_ms_median = ms[ms.size() / 2];
+  }
+  result_.distance_m = (rover_.truth().body.xy - start).norm();
+  result_.dead_reckoning_drift_m = (rover_.truth().body.xy - estimate_.body.xy).norm();
+  result_.slips = rover_.slips();
+  result_.trace = rover_.trace();
+  for (const auto& s : result_.trace) {
+    const double margin =
+        gait::stabilityMargin(gait::conservativeSupportPolygon(s.feet), s.centre_of_gravity);
+    result_.min_stability_margin_m = std::min(result_.min_stability_margin_m, margin);
+    if (margin < 0) ++result_.csp_violations;
+  }
+  result_.wall_s = secondsSince(t0);
+  return result_;
+}
+
+}  // namespace
+
+WalkResult runWalk(const WalkConfig& config, const WalkOptions& options) {
+  return Walker(config, options).run();
+}
+
+}  // namespace ambler::walk
