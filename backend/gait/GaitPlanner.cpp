@@ -141,6 +141,7 @@ void validate(const GaitOptions& g) {
   require(g.max_body_turn_rad > 0 && g.max_body_turn_rad <= M_PI / 2,
           "gait.max_body_turn_deg must be in (0, 90]");
   require(g.csp_margin_m >= 0 && g.csp_margin_m < 2, "gait.csp_margin_m must be in [0, 2)");
+  require(g.execution_slack_m >= 0 && g.execution_slack_m < 1, "gait.execution_slack_m must be in [0, 1)");
   require(g.search_half_m > 0 && g.search_half_m <= 3, "gait.search_half_m must be in (0, 3]");
   require(g.tread_tolerance_m > 0 && g.tread_tolerance_m <= 3,
           "gait.tread_tolerance_m must be in (0, 3]");
@@ -206,7 +207,9 @@ BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& headi
   for (bool strict : {true, false})
     for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
       const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
-      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m);
+      // With slack: execution and dead-reckoning errors of a few
+      // centimetres must not take the next leg's margin below the limit.
+      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m);
       const bool ok = strict ? std::find(free.begin(), free.end(),
                                          nextToRecover(moved, heading, ctx.model)) != free.end()
                              : !free.empty();

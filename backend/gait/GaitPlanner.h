@@ -18,6 +18,7 @@ struct GaitOptions {
   double max_body_advance_m = 1.5;  // per body move (report: 1.5 m used, 3.9 m possible)
   double max_body_turn_rad = 0.26;  // per body move (assumed)
   double csp_margin_m = 0.10;       // centre of gravity inside the CSP by at least this
+  double execution_slack_m = 0.04;  // kept in hand for the leg due next
   double search_half_m = 0.5;       // half side of the foothold search area around the ideal
   double tread_tolerance_m = 0.25;  // footholds at most this far across the ideal
   double pattern_weight = 0.5;      // composite cost added per metre from the ideal foothold

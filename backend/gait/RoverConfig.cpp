@@ -68,6 +68,7 @@ void readGait(const io::JsonFields& f, GaitOptions& g) {
                  {"pitch_m", &g.pitch_m},
                  {"max_body_advance_m", &g.max_body_advance_m},
                  {"csp_margin_m", &g.csp_margin_m},
+                 {"execution_slack_m", &g.execution_slack_m},
                  {"search_half_m", &g.search_half_m},
                  {"tread_tolerance_m", &g.tread_tolerance_m},
                  {"pattern_weight", &g.pattern_weight},
