@@ -35,6 +35,21 @@ Eigen::Vector2d idealFoothold(const Stance& stance, const Heading& heading, cons
   return shaft + along * d + lateral * out;
 }
 
+// Pattern constraint: how far apart, along the motion `d` (body frame), the
+// feet of leg's stack stand. A stack spread much over two pitches cannot
+// lift its rear foot before that foot reaches its kinematic limit.
+double stackSpan(const Stance& stance, const RoverModel& m, int leg, const Eigen::Vector2d& d) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int i = 0; i < kLegCount; ++i) {
+    if (m.shaft_of_leg[std::size_t(i)] != m.shaft_of_leg[std::size_t(leg)]) continue;
+    const double a =
+        stance.body.toBody(Eigen::Vector2d(stance.feet[std::size_t(i)].head<2>())).dot(d);
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  }
+  return hi - lo;
+}
+
 double headingAngle(const BodyPose& body, const Eigen::Vector2d& body_direction) {
   const Eigen::Vector2d w = body.rotation() * body_direction;
   return std::atan2(w.y(), w.x());
@@ -104,6 +119,7 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     if (!std::isfinite(z)) continue;
     Stance placed = stance;
     placed.feet[std::size_t(leg)] = {xy.x(), xy.y(), z};
+    if (stackSpan(placed, m, leg, d) > ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m) continue;
     if (!checkStance(placed, m, ctx.gait.csp_margin_m).ok()) continue;
     Stance raised = placed;
     raised.body.link_z = linkHeightFor(placed, m);
@@ -141,12 +157,15 @@ void validate(const GaitOptions& g) {
   require(g.max_body_turn_rad > 0 && g.max_body_turn_rad <= M_PI / 2,
           "gait.max_body_turn_deg must be in (0, 90]");
   require(g.csp_margin_m >= 0 && g.csp_margin_m < 2, "gait.csp_margin_m must be in [0, 2)");
-  require(g.execution_slack_m >= 0 && g.execution_slack_m < 1, "gait.execution_slack_m must be in [0, 1)");
+  require(g.execution_slack_m >= 0 && g.execution_slack_m < 1,
+          "gait.execution_slack_m must be in [0, 1)");
   require(g.search_half_m > 0 && g.search_half_m <= 3, "gait.search_half_m must be in (0, 3]");
   require(g.tread_tolerance_m > 0 && g.tread_tolerance_m <= 3,
           "gait.tread_tolerance_m must be in (0, 3]");
   require(g.pattern_weight >= 0 && g.pattern_weight <= 100,
           "gait.pattern_weight must be in [0, 100]");
+  require(g.max_stack_span_pitches >= 2 && g.max_stack_span_pitches <= 10,
+          "gait.max_stack_span_pitches must be in [2, 10]");
   require(g.body_step_m > 0 && g.body_step_m <= 0.5, "gait.body_step_m must be in (0, 0.5]");
   require(g.max_candidates_per_leg >= 1, "gait.max_candidates_per_leg must be >= 1");
 }
@@ -223,37 +242,67 @@ BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& headi
   return limit;
 }
 
-StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
-                  const GaitContext& ctx, const std::optional<footfall::ScannerView>& scanner) {
-  StepPlan plan;
-  const auto& m = ctx.model;
-  // Around the ideal footholds first; where obstacles or unknown ground
-  // leave nothing there, over wider areas (2x, 3x) before giving up.
-  const auto legs = liftableLegs(stance, m, ctx.gait.csp_margin_m);
+namespace {
+
+// Every liftable leg's best placement: around the ideal footholds first;
+// where obstacles or unknown ground leave nothing there, over wider areas
+// (2x, 3x) before giving up. Ranked by the normalised product of local
+// advance, global advance and CSP area (cmu-1990 'Planning strategies',
+// fig. 8); a placement after which the leg due next cannot lift only wins
+// when nothing else is possible.
+std::vector<LegCandidate> rankedCandidates(const Stance& stance, const Heading& heading,
+                                           const terrain::ElevationMap& map, const GaitContext& ctx,
+                                           const std::optional<footfall::ScannerView>& scanner) {
+  std::vector<LegCandidate> out;
+  const auto legs = liftableLegs(stance, ctx.model, ctx.gait.csp_margin_m);
   for (double widen : {1.0, 2.0, 3.0}) {
     for (int leg : legs)
-      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, widen))
-        plan.candidates.push_back(*c);
-    const bool cycle = std::any_of(plan.candidates.begin(), plan.candidates.end(),
-                                   [](const LegCandidate& c) { return c.keeps_cycle; });
-    if (cycle) break;
+      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, widen)) out.push_back(*c);
+    if (std::any_of(out.begin(), out.end(), [](const auto& c) { return c.keeps_cycle; })) break;
   }
-
-  // cmu-1990 'Planning strategies' fig. 8: normalised product of the metrics.
   double top_local = 0, top_global = 0, top_area = 0;
-  for (const auto& c : plan.candidates) {
+  for (const auto& c : out) {
     top_local = std::max(top_local, c.local_advance);
     top_global = std::max(top_global, c.global_advance);
     top_area = std::max(top_area, c.support_area);
   }
-  // A placement after which the leg due next cannot lift risks a dead end:
-  // it only wins when nothing else is possible.
-  for (auto& c : plan.candidates)
+  for (auto& c : out)
     c.merit = (c.local_advance / top_local) * (c.global_advance / std::max(top_global, 1e-9)) *
               (c.support_area / std::max(top_area, 1e-9)) * (c.keeps_cycle ? 1.0 : 0.01);
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.merit > b.merit; });
+  return out;
+}
+
+// The stance after placing `c` and moving the body as the step would.
+Stance afterStep(const Stance& stance, const LegCandidate& c, const Heading& heading,
+                 const GaitContext& ctx) {
+  Stance placed = stance;
+  placed.feet[std::size_t(c.leg)] = c.foothold;
+  placed.body.link_z = linkHeightFor(placed, ctx.model);
+  return moveBody(placed, heading, std::max(0.0, bodyMoveKeepingALegFree(placed, heading, ctx).u));
+}
+
+// One step of lookahead: candidates whose following step still has a
+// placement that keeps the cycle go first (the gait is otherwise greedy and
+// can walk into a stance where no leg may lift).
+void preferOpenFutures(std::vector<LegCandidate>& ranked, const Stance& stance,
+                       const Heading& heading, const terrain::ElevationMap& map,
+                       const GaitContext& ctx) {
+  std::stable_partition(ranked.begin(), ranked.end(), [&](const LegCandidate& c) {
+    const auto next = rankedCandidates(afterStep(stance, c, heading, ctx), heading, map, ctx, {});
+    return std::any_of(next.begin(), next.end(), [](const auto& n) { return n.keeps_cycle; });
+  });
+}
+
+}  // namespace
+
+StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
+                  const GaitContext& ctx, const std::optional<footfall::ScannerView>& scanner) {
+  StepPlan plan;
+  const auto& m = ctx.model;
+  plan.candidates = rankedCandidates(stance, heading, map, ctx, scanner);
   std::vector<LegCandidate> ranked = plan.candidates;
-  std::sort(ranked.begin(), ranked.end(),
-            [](const auto& a, const auto& b) { return a.merit > b.merit; });
+  preferOpenFutures(ranked, stance, heading, map, ctx);
 
   Stance placed = stance;
   for (const auto& c : ranked) {

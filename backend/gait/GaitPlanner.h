@@ -13,17 +13,18 @@ namespace ambler::gait {
 // The pattern and safety figures of the circulating gait (cmu-1990
 // 'Planning strategies', Gaits).
 struct GaitOptions {
-  double tread_m = 2.25;            // body axis to the feet (report: walking width 4.5 m)
-  double pitch_m = 1.5;             // foot spacing along the motion (report: 1.5 m)
-  double max_body_advance_m = 1.5;  // per body move (report: 1.5 m used, 3.9 m possible)
-  double max_body_turn_rad = 0.26;  // per body move (assumed)
-  double csp_margin_m = 0.10;       // centre of gravity inside the CSP by at least this
-  double execution_slack_m = 0.04;  // kept in hand for the leg due next
-  double search_half_m = 0.5;       // half side of the foothold search area around the ideal
-  double tread_tolerance_m = 0.25;  // footholds at most this far across the ideal
-  double pattern_weight = 0.5;      // composite cost added per metre from the ideal foothold
-  double body_step_m = 0.02;        // sampling of body moves (radians for point turns)
-  int max_candidates_per_leg = 60;  // cells tried, cheapest first, per leg
+  double tread_m = 2.25;                 // body axis to the feet (report: walking width 4.5 m)
+  double pitch_m = 1.5;                  // foot spacing along the motion (report: 1.5 m)
+  double max_body_advance_m = 1.5;       // per body move (report: 1.5 m used, 3.9 m possible)
+  double max_body_turn_rad = 0.26;       // per body move (assumed)
+  double csp_margin_m = 0.10;            // centre of gravity inside the CSP by at least this
+  double execution_slack_m = 0.04;       // kept in hand for the leg due next
+  double search_half_m = 0.5;            // half side of the foothold search area around the ideal
+  double tread_tolerance_m = 0.25;       // footholds at most this far across the ideal
+  double pattern_weight = 0.5;           // composite cost added per metre from the ideal foothold
+  double max_stack_span_pitches = 2.25;  // feet of one stack at most this many pitches apart
+  double body_step_m = 0.02;             // sampling of body moves (radians for point turns)
+  int max_candidates_per_leg = 60;       // cells tried, cheapest first, per leg
 };
 
 void validate(const GaitOptions& options);

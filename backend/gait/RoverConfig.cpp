@@ -72,6 +72,7 @@ void readGait(const io::JsonFields& f, GaitOptions& g) {
                  {"search_half_m", &g.search_half_m},
                  {"tread_tolerance_m", &g.tread_tolerance_m},
                  {"pattern_weight", &g.pattern_weight},
+                 {"max_stack_span_pitches", &g.max_stack_span_pitches},
                  {"body_step_m", &g.body_step_m}};
   for (const auto& n : numbers)
     if (f.has(n.key)) *n.value = f.number(n.key);
