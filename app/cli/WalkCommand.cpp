@@ -70,6 +70,7 @@ void runWalk(const WalkArgs& a) {
                         {"slips", r.slips},
                         {"slips_detected", r.slips_detected},
                         {"replans", r.replans},
+                        {"rechecked", r.rechecked},
                         {"time_scale", a.time_scale},
                         {"wall_s", r.wall_s}};
   if (!r.stopped.empty()) out["stopped"] = r.stopped;

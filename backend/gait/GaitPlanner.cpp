@@ -109,7 +109,8 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
   // The cheapest cell that keeps every constraint, preferring one after
   // which the leg due next can still lift (else the walk may dead-end).
   std::optional<LegCandidate> fallback;
-  const int tries = std::min<int>(int(order.size()), ctx.gait.max_candidates_per_leg);
+  const int tries =
+      std::min<int>(int(order.size()), int(ctx.gait.max_candidates_per_leg * widen * widen));
   for (int k = 0; k < tries; ++k) {
     const int cell = order[std::size_t(k)].second;
     const Eigen::Vector2d xy = g.cellCenter(cell / g.cols, cell % g.cols);
@@ -119,7 +120,9 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     if (!std::isfinite(z)) continue;
     Stance placed = stance;
     placed.feet[std::size_t(leg)] = {xy.x(), xy.y(), z};
-    if (stackSpan(placed, m, leg, d) > ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m) continue;
+    // Widened searches step over obstacles, so they may stretch the stack.
+    const double span = ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0);
+    if (stackSpan(placed, m, leg, d) > span) continue;
     if (!checkStance(placed, m, ctx.gait.csp_margin_m).ok()) continue;
     Stance raised = placed;
     raised.body.link_z = linkHeightFor(placed, m);
@@ -335,6 +338,34 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
                                      : std::min({plan.min_csp_margin, margin_placed, margin_after});
   plan.ok = true;
   return plan;
+}
+
+std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned_from,
+                                     const Stance& actual, const Heading& heading,
+                                     const GaitContext& ctx) {
+  const auto& m = ctx.model;
+  const double margin = ctx.gait.csp_margin_m;
+  StepPlan moved = plan;
+  Stance placed = actual;
+  if (plan.leg >= 0) {
+    if (marginWithout(actual, m, plan.leg) < margin) return std::nullopt;
+    const Eigen::Vector3d in_body = planned_from.body.toBody(plan.foothold);
+    moved.foothold = actual.body.toWorld(in_body);
+    moved.foothold.z() = plan.foothold.z();
+    placed.feet[std::size_t(plan.leg)] = moved.foothold;
+  }
+  if (!checkStance(placed, m, margin).ok()) return std::nullopt;
+  placed.body.link_z = plan.after_leg.body.link_z;
+  const BodyMoveLimit limit =
+      maxBodyMove(placed, heading, m, margin, plan.body_u, ctx.gait.body_step_m);
+  if (limit.u < plan.body_u - 1e-9) return std::nullopt;
+  moved.after_leg = placed;
+  moved.after = moveBody(placed, heading, plan.body_u);
+  // And the step after it must still start: the leg due next can lift.
+  const auto free = liftableLegs(moved.after, m, margin + ctx.gait.execution_slack_m);
+  if (std::find(free.begin(), free.end(), nextToRecover(moved.after, heading, m)) == free.end())
+    return std::nullopt;
+  return moved;
 }
 
 Stance nominalStance(const BodyPose& body, const RoverModel& m, const GaitOptions& g) {

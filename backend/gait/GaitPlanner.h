@@ -77,6 +77,16 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
                   const GaitContext& context,
                   const std::optional<footfall::ScannerView>& scanner = std::nullopt);
 
+// A step planned from `planned_from`, moved onto the stance the rover is
+// really in (`actual`, a few centimetres off after slips and execution
+// errors): the leg and body moves keep their joint-space and body-frame
+// form, so the foot lands where the body's offset takes it. Empty when the
+// moved step breaks a constraint (the leg may not lift, the placement or
+// any point of the body move fails) and must be replanned.
+std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned_from,
+                                     const Stance& actual, const Heading& heading,
+                                     const GaitContext& context);
+
 // The link-plane height for a stance: nominal above the mean foot, inside
 // every leg's vertical range.
 double linkHeightFor(const Stance& stance, const RoverModel& model);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <optional>
 #include <thread>
 
 #include "footfall/FootfallConfig.h"
@@ -30,6 +31,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The Perceptron delivers 2 frames a second (cmu-1990).
+constexpr double kScanFrameS = 0.5;
+
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -47,6 +51,7 @@ struct Executed {
   sim::MoveReport leg, body;
   std::array<sim::LegState, gait::kLegCount> after_leg{}, after_body{};
   Eigen::Vector2d true_before_body{0, 0}, true_after_body{0, 0};
+  sensor::RangeImage scan;  // from where the step ended, still in the true pose
 };
 
 class Walker {
@@ -69,9 +74,11 @@ class Walker {
     n.seed = n.seed * 1000003 + seed;
     return n;
   }
-  void perceive();
+  sensor::RangeImage acquire();
+  Eigen::Isometry3d mountPose(const gait::BodyPose& body) const;
+  void integrate(const sensor::RangeImage& image);
   Planned plan(const gait::Stance& from);
-  Executed execute(const Planned& p);
+  Executed execute(const Planned& p, int scan_index);
   void update(const Planned& p, const Executed& e);
   bool diverged(const gait::Stance& predicted) const;
 
@@ -83,23 +90,27 @@ class Walker {
   sim::RoverSim rover_;
   gait::Stance estimate_;
   WalkResult result_;
-  int scans_ = 0;
 };
 
-// A scan from where the rover really is, mapped where it believes it is.
-void Walker::perceive() {
-  const auto& m = cfg_.gait.model;
-  const gait::BodyPose& truth = rover_.truth().body;
-  const gait::BodyPose& est = estimate_.body;
-  auto mount = [&](const gait::BodyPose& b) {
-    return cfg_.scanner.mountPose({b.xy.x(), b.xy.y(), b.link_z - m.link_plane_nominal_m},
-                                  b.heading_rad);
-  };
-  sensor::RangeImage image = sim::simulateScan(caster_, cfg_.scanner, mount(truth),
-                                               opt_.seed * 1000 + std::uint64_t(scans_++));
-  image.sensor_to_world = mount(est);
-  const Box2 seen = sim::groundFootprint(cfg_.scanner, image.sensor_to_world,
-                                         est.link_z - m.link_plane_nominal_m);
+// The scanner's work, done while the rover stands still: a range image
+// from where the rover really is, tagged with where it believes it is.
+sensor::RangeImage Walker::acquire() {
+  sensor::RangeImage image = sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
+                                               opt_.seed * 1000);
+  image.sensor_to_world = mountPose(estimate_.body);
+  return image;
+}
+
+Eigen::Isometry3d Walker::mountPose(const gait::BodyPose& b) const {
+  const double ground_z = b.link_z - cfg_.gait.model.link_plane_nominal_m;
+  return cfg_.scanner.mountPose({b.xy.x(), b.xy.y(), ground_z}, b.heading_rad);
+}
+
+// LTM builder and merger (cmu-1990): the scan's locus map over the window
+// of the local terrain map it can cover, fused into that map.
+void Walker::integrate(const sensor::RangeImage& image) {
+  const double ground_z = image.sensor_to_world.translation().z() - cfg_.scanner.mount_height;
+  const Box2 seen = sim::groundFootprint(cfg_.scanner, image.sensor_to_world, ground_z);
   // The window of the local terrain map under the scan, on its grid.
   const GridSpec& g = map_.grid();
   const int c0 = std::max(0, int(std::floor((seen.x_min - g.origin_x) / g.resolution)));
@@ -126,27 +137,32 @@ Planned Walker::plan(const gait::Stance& from) {
   return p;
 }
 
-Executed Walker::execute(const Planned& p) {
+// The rover's side of a step: the leg move, the body move and a scan from
+// where it ends. The simulator computes them at once; the wall clock then
+// waits out the modelled duration (execution plus the scanner's frame time,
+// times time_scale), so the ray casting hides inside it like the real
+// sensor's acquisition would.
+Executed Walker::execute(const Planned& p, int scan_index) {
+  const auto t0 = Clock::now();
   Executed e;
-  auto wait = [&](double simulated_s) {
-    if (opt_.time_scale > 0)
-      std::this_thread::sleep_for(std::chrono::duration<double>(simulated_s * opt_.time_scale));
-  };
-  if (p.plan.leg >= 0) {
-    e.leg = rover_.executeLeg({p.plan.leg, p.plan.recovery.waypoints});
-    wait(e.leg.duration_s);
-  }
+  if (p.plan.leg >= 0) e.leg = rover_.executeLeg({p.plan.leg, p.plan.recovery.waypoints});
   e.after_leg = rover_.legStates();
   e.true_before_body = e.true_after_body = rover_.truth().body.xy;
   e.after_body = e.after_leg;
-  if (!e.leg.completed) return e;  // the executive replans before moving the body
-  const gait::BodyPose& a = p.plan.after_leg.body;
-  const gait::BodyPose& b = p.plan.after.body;
-  e.body = rover_.executeBody(
-      {a.toBody(b.xy), b.heading_rad - a.heading_rad, b.link_z - p.from.body.link_z});
-  wait(e.body.duration_s);
-  e.true_after_body = rover_.truth().body.xy;
-  e.after_body = rover_.legStates();
+  if (e.leg.completed) {  // else the executive replans before moving the body
+    const gait::BodyPose& a = p.plan.after_leg.body;
+    const gait::BodyPose& b = p.plan.after.body;
+    e.body = rover_.executeBody(
+        {a.toBody(b.xy), b.heading_rad - a.heading_rad, b.link_z - p.from.body.link_z});
+    e.true_after_body = rover_.truth().body.xy;
+    e.after_body = rover_.legStates();
+  }
+  e.scan = sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
+                             opt_.seed * 1000 + std::uint64_t(scan_index));
+  const double modelled = e.leg.duration_s + e.body.duration_s + kScanFrameS;
+  if (opt_.time_scale > 0)
+    std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(modelled * opt_.time_scale)));
   return e;
 }
 
@@ -201,32 +217,58 @@ bool Walker::diverged(const gait::Stance& predicted) const {
 WalkResult Walker::run() {
   const auto t0 = Clock::now();
   const Eigen::Vector2d start = rover_.truth().body.xy;
-  perceive();
+  integrate(acquire());
   Planned next = plan(estimate_);
+  std::optional<sensor::RangeImage> pending;  // taken, not yet mapped
   for (int k = 0; k < opt_.steps; ++k) {
+    if (!next.plan.ok && pending) {  // planned ahead without the last scan: retry with it
+      integrate(*pending);
+      pending.reset();
+      next = plan(estimate_);
+      ++result_.replans;
+    }
     if (!next.plan.ok) {
       result_.stopped = next.plan.reason;
       break;
     }
     const Planned current = std::move(next);
-    if (opt_.concurrent && k + 1 < opt_.steps) {
-      // TCA: the next step is planned on the predicted stance while this
-      // one executes; a surprise (slip, contact, drift) forces a replan.
-      auto running = std::async(std::launch::async, [&] { return execute(current); });
+    const bool last = k + 1 == opt_.steps;
+    if (opt_.concurrent && !last) {
+      // TCA: while the rover executes this step and scans, the previous
+      // scan is mapped and the next step planned on the predicted stance.
+      // A surprise (unexpected contact, slip, drift) forces a replan.
+      auto running = std::async(std::launch::async, [&] { return execute(current, k + 1); });
+      if (pending) integrate(*pending);
       next = plan(current.plan.after);
-      const Executed done = running.get();
+      Executed done = running.get();
       update(current, done);
-      perceive();
+      done.scan.sensor_to_world = mountPose(estimate_.body);
+      pending = std::move(done.scan);
       const bool surprise = !done.leg.event.empty() && done.leg.event != "touch-down";
-      if (surprise || diverged(current.plan.after)) {
+      // A small divergence only needs the interlocks rechecked on the real
+      // stance; a surprise or a failed recheck needs a new plan.
+      std::optional<gait::StepPlan> kept;
+      if (!surprise && next.plan.ok && diverged(current.plan.after))
+        kept = gait::reanchorStep(next.plan, next.from, estimate_, opt_.heading, cfg_.gait);
+      if (kept) {
+        next.plan = std::move(*kept);
+        next.from = estimate_;
+        ++result_.rechecked;
+      } else if (surprise || diverged(current.plan.after)) {
+        integrate(*pending);
+        pending.reset();
         next = plan(estimate_);
         result_.log.back().replanned = true;
         ++result_.replans;
       }
     } else {
-      update(current, execute(current));
-      if (k + 1 < opt_.steps) {
-        perceive();
+      Executed done = execute(current, k + 1);
+      update(current, done);
+      if (!last) {
+        if (pending) integrate(*pending);
+        pending.reset();
+        done.scan.sensor_to_world = mountPose(estimate_.body);
+        integrate(done.scan);
         next = plan(estimate_);
       }
     }

@@ -63,7 +63,8 @@ struct WalkResult {
   double dead_reckoning_drift_m = 0.0;  // estimated vs true position at the end
   int slips = 0;                        // feet the simulator slipped
   int slips_detected = 0;
-  int replans = 0;
+  int replans = 0;    // steps planned again after execution (concurrent mode)
+  int rechecked = 0;  // steps kept after rechecking them on the real stance
   double wall_s = 0.0;
   std::string stopped;  // why the walk ended early, empty when it did not
   std::vector<WalkStep> log;
