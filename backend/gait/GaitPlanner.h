@@ -14,7 +14,7 @@ namespace ambler::gait {
 // 'Planning strategies', Gaits).
 struct GaitOptions {
   double tread_m = 2.25;                 // body axis to the feet (report: walking width 4.5 m)
-  double pitch_m = 1.5;                  // foot spacing along the motion (report: 1.5 m)
+  double pitch_m = 1.0;                  // foot spacing along the motion (report: 1.5 m)
   double max_body_advance_m = 1.5;       // per body move (report: 1.5 m used, 3.9 m possible)
   double max_body_turn_rad = 0.26;       // per body move (assumed)
   double csp_margin_m = 0.10;            // centre of gravity inside the CSP by at least this
