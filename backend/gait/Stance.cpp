@@ -72,29 +72,30 @@ std::vector<Eigen::Vector2d> Stance::supportingFeet(int except) const {
 
 StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin) {
   StanceCheck check;
+  const Eigen::Matrix2d to_body = stance.body.rotation().transpose();  // once: sin/cos are dear
   for (int i = 0; i < kLegCount; ++i) {
     if (!stance.supporting[std::size_t(i)]) continue;
-    const Eigen::Vector3d f = stance.body.toBody(stance.feet[std::size_t(i)]);
-    if (!model.withinLimits(stance.joints(model, i))) return {Constraint::kKinematic, i};
+    const Eigen::Vector3d& w = stance.feet[std::size_t(i)];
+    const Eigen::Vector2d f = to_body * (w.head<2>() - stance.body.xy);
+    const LegJoints q{0.0, (f - model.shaftOf(i)).norm(), stance.body.link_z - w.z()};
+    if (!model.withinLimits(q)) return {Constraint::kKinematic, i};
     const Eigen::Vector2d k = model.body_keepout_half;
     if (std::abs(f.x()) < k.x() && std::abs(f.y()) < k.y()) return {Constraint::kLegBody, i};
     for (const auto& shaft : model.shafts)
-      if ((f.head<2>() - shaft).norm() < model.shaft_clearance_m) return {Constraint::kLegBody, i};
+      if ((f - shaft).norm() < model.shaft_clearance_m) return {Constraint::kLegBody, i};
     for (int j = i + 1; j < kLegCount; ++j)
       if (stance.supporting[std::size_t(j)] &&
           (stance.feet[std::size_t(i)] - stance.feet[std::size_t(j)]).head<2>().norm() <
               model.min_leg_separation_m)
         return {Constraint::kLegLeg, i};
   }
-  check.csp_margin_m = stabilityMargin(conservativeSupportPolygon(stance.supportingFeet()),
-                                       stance.centreOfGravity(model));
+  check.csp_margin_m = conservativeMargin(stance.supportingFeet(), stance.centreOfGravity(model));
   if (check.csp_margin_m < csp_margin) check.violated = Constraint::kConservativeSupport;
   return check;
 }
 
 double marginWithout(const Stance& stance, const RoverModel& model, int leg) {
-  return stabilityMargin(conservativeSupportPolygon(stance.supportingFeet(leg)),
-                         stance.centreOfGravity(model));
+  return conservativeMargin(stance.supportingFeet(leg), stance.centreOfGravity(model));
 }
 
 std::vector<int> liftableLegs(const Stance& stance, const RoverModel& model, double csp_margin) {

@@ -1,6 +1,7 @@
 #include "gait/Support.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -102,6 +103,51 @@ double stabilityMargin(const ConvexPolygon& polygon, const Eigen::Vector2d& p) {
     distance = std::min(distance, segmentDistance(p, a, b));
   }
   return inside ? distance : -distance;
+}
+
+double conservativeMargin(const std::vector<Eigen::Vector2d>& feet, const Eigen::Vector2d& p) {
+  const std::size_t n = feet.size();
+  if (n < 4 || n > 6)
+    return n > 6 ? stabilityMargin(conservativeSupportPolygon(feet), p)
+                 : -std::numeric_limits<double>::infinity();
+  std::array<Eigen::Vector2d, 6> sorted;
+  for (std::size_t i = 0; i < n; ++i) {  // insertion sort by x, then y
+    std::size_t j = i;
+    for (; j > 0 && (feet[i].x() < sorted[j - 1].x() ||
+                     (feet[i].x() == sorted[j - 1].x() && feet[i].y() < sorted[j - 1].y()));
+         --j)
+      sorted[j] = sorted[j - 1];
+    sorted[j] = feet[i];
+  }
+  double margin = std::numeric_limits<double>::infinity();
+  std::array<Eigen::Vector2d, 12> hull;
+  for (std::size_t skip = 0; skip < n; ++skip) {
+    // Monotone chain over the sorted feet without `skip`.
+    std::size_t k = 0;
+    auto push = [&](std::size_t i, std::size_t floor) {
+      while (k >= floor && cross(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+      hull[k++] = sorted[i];
+    };
+    for (std::size_t i = 0; i < n; ++i)
+      if (i != skip) push(i, 2);
+    const std::size_t lower = k + 1;
+    for (std::size_t i = n; i-- > 0;)
+      if (i != skip) push(i, lower);
+    --k;  // the first point closes the chain
+    if (k < 3) return -std::numeric_limits<double>::infinity();
+    double inside = std::numeric_limits<double>::infinity(), outside = 0.0;
+    for (std::size_t i = 0; i < k; ++i) {
+      const Eigen::Vector2d& a = hull[i];
+      const Eigen::Vector2d& b = hull[(i + 1) % k];
+      const double length = (b - a).norm();
+      if (length <= 1e-12) continue;
+      const double d = cross(a, b, p) / length;  // signed distance to the edge's line
+      if (d < 0) outside = std::max(outside, segmentDistance(p, a, b));
+      inside = std::min(inside, d);
+    }
+    margin = std::min(margin, outside > 0 ? -outside : inside);
+  }
+  return margin;
 }
 
 }  // namespace ambler::gait

@@ -34,4 +34,12 @@ double area(const ConvexPolygon& polygon);
 // inside, negative outside; -infinity for an empty or degenerate polygon.
 double stabilityMargin(const ConvexPolygon& polygon, const Eigen::Vector2d& p);
 
+// The stability margin of p in the conservative support polygon of `feet`
+// without building it: the largest disk about p inside every one-leg-removed
+// hull is the one inside their intersection, so for p inside the CSP this
+// equals stabilityMargin(conservativeSupportPolygon(feet), p); outside it
+// is negative (not necessarily the distance). Allocation-free, for the
+// planner's inner loops. At most six feet.
+double conservativeMargin(const std::vector<Eigen::Vector2d>& feet, const Eigen::Vector2d& p);
+
 }  // namespace ambler::gait

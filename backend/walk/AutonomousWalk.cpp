@@ -1,9 +1,9 @@
 #include "walk/AutonomousWalk.h"
 
+#include <omp.h>
 #include <algorithm>
 #include <chrono>
 #include <future>
-#include <omp.h>
 #include <optional>
 #include <thread>
 
@@ -96,8 +96,8 @@ class Walker {
 // The scanner's work, done while the rover stands still: a range image
 // from where the rover really is, tagged with where it believes it is.
 sensor::RangeImage Walker::acquire() {
-  sensor::RangeImage image = sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
-                                               opt_.seed * 1000);
+  sensor::RangeImage image =
+      sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body), opt_.seed * 1000);
   image.sensor_to_world = mountPose(estimate_.body);
   return image;
 }
@@ -162,8 +162,9 @@ Executed Walker::execute(const Planned& p, int scan_index) {
                              opt_.seed * 1000 + std::uint64_t(scan_index));
   const double modelled = e.leg.duration_s + e.body.duration_s + kScanFrameS;
   if (opt_.time_scale > 0)
-    std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double>(modelled * opt_.time_scale)));
+    std::this_thread::sleep_until(t0 +
+                                  std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(modelled * opt_.time_scale)));
   return e;
 }
 
