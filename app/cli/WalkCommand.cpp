@@ -61,6 +61,7 @@ void runWalk(const WalkArgs& a) {
                         {"mode", a.sequential ? "sequential" : "concurrent"},
                         {"steps", r.steps},
                         {"distance_m", r.distance_m},
+                        {"heading_change_deg", r.heading_change_deg},
                         {"min_stability_margin_m", r.min_stability_margin_m},
                         {"csp_violations", r.csp_violations},
                         {"leg_collisions", r.leg_collisions},

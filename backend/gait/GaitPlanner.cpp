@@ -297,6 +297,26 @@ void preferOpenFutures(std::vector<LegCandidate>& ranked, const Stance& stance,
   });
 }
 
+// When no leg may lift and moving along the heading does not help (a point
+// turn rotates the feet about the centre of gravity, leaving every margin
+// as it was), the shortest straight body shift that frees a leg.
+std::optional<Stance> shiftToFreeALeg(const Stance& stance, const GaitContext& ctx) {
+  const auto& g = ctx.gait;
+  for (double distance = g.body_step_m; distance <= 0.6 + 1e-9; distance += g.body_step_m)
+    for (int k = 0; k < 16; ++k) {
+      const Eigen::Vector2d dir(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
+      bool clear = true;
+      Stance moved = stance;
+      for (double t = g.body_step_m; clear && t <= distance + 1e-9; t += g.body_step_m) {
+        moved.body.xy = stance.body.xy + std::min(t, distance) * dir;
+        clear = checkStance(moved, ctx.model, g.csp_margin_m).ok();
+      }
+      if (clear && !liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m).empty())
+        return moved;
+    }
+  return std::nullopt;
+}
+
 }  // namespace
 
 StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
@@ -325,6 +345,14 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   const double u = move.u;
   const Constraint stopped = move.stopped_by;
   if (u < ctx.gait.body_step_m && plan.leg < 0) {
+    if (auto shifted = shiftToFreeALeg(stance, ctx)) {
+      plan.after = *shifted;
+      plan.reason = "body shifted to free a leg";
+      plan.min_csp_margin = std::min(checkStance(stance, m, 0.0).csp_margin_m,
+                                     checkStance(*shifted, m, 0.0).csp_margin_m);
+      plan.ok = true;
+      return plan;
+    }
     plan.reason = plan.candidates.empty() ? "no leg can lift and reach a known, stable foothold"
                                           : "no collision-free leg recovery";
     return plan;
@@ -345,6 +373,7 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
                                      const GaitContext& ctx) {
   const auto& m = ctx.model;
   const double margin = ctx.gait.csp_margin_m;
+  if (plan.leg < 0) return std::nullopt;  // a body-only step is cheap to plan again
   StepPlan moved = plan;
   Stance placed = actual;
   if (plan.leg >= 0) {

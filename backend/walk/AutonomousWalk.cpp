@@ -287,6 +287,7 @@ WalkResult Walker::run() {
     result_.plan_ms_median = ms[ms.size() / 2];
   }
   result_.distance_m = (rover_.truth().body.xy - start).norm();
+  result_.heading_change_deg = rover_.truth().body.heading_rad * 180.0 / M_PI;  // started at 0
   result_.dead_reckoning_drift_m = (rover_.truth().body.xy - estimate_.body.xy).norm();
   result_.slips = rover_.slips();
   result_.trace = rover_.trace();

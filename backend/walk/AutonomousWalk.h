@@ -55,6 +55,7 @@ struct WalkStep {
 struct WalkResult {
   int steps = 0;
   double distance_m = 0.0;  // true start to true end of the body
+  double heading_change_deg = 0.0;
   double min_stability_margin_m = INFINITY;
   int csp_violations = 0;  // trace samples with the true CoG outside the true CSP
   int leg_collisions = 0;
