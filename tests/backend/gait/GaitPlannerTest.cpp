@@ -1,0 +1,245 @@
+// Rover model, stance constraints, circulating gait and leg recovery
+// (cmu-1990 'Planning strategies for the Ambler', 'Single leg walking').
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "core/Resources.h"
+#include "footfall/FootfallConfig.h"
+#include "gait/GaitPlanner.h"
+#include "gait/RoverConfig.h"
+#include "io/FormatError.h"
+
+namespace ambler::gait {
+namespace {
+
+GaitContext context() {
+  GaitContext ctx = readRoverConfig(findResource("config/rover.json"));
+  ctx.footfall = footfall::readFootfallConfig(findResource("config/footfall.json"));
+  return ctx;
+}
+
+terrain::ElevationMap flatGround() {
+  terrain::ElevationMap map(GridSpec::covering({-12, -12, 12, 30}, 0.1));
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c) map.setKnown(r, c, 0.0, 0.01);
+  return map;
+}
+
+TEST(RoverModel, JointsAndFootAreInverse) {
+  const RoverModel m;
+  for (int leg = 0; leg < kLegCount; ++leg) {
+    const LegJoints q{1.1 - leg, 1.7, 2.1};
+    const LegJoints back = m.jointsFor(leg, m.footInBody(leg, q));
+    EXPECT_NEAR(std::remainder(back.rotation_rad - q.rotation_rad, 2 * M_PI), 0.0, 1e-12);
+    EXPECT_NEAR(back.extension_m, q.extension_m, 1e-12);
+    EXPECT_NEAR(back.vertical_m, q.vertical_m, 1e-12);
+  }
+}
+
+// The report's figures the model is built to: walking width 4.5 m (the
+// tread), and a body advance of about 3.9 m at that tread (the reach).
+TEST(RoverModel, ConfigurationMatchesTheReportsFigures) {
+  const GaitContext ctx = context();
+  EXPECT_DOUBLE_EQ(2 * ctx.gait.tread_m, 4.5);
+  const double lateral = ctx.gait.tread_m - std::abs(ctx.model.shafts[0].x());
+  const double travel = 2 * std::sqrt(std::pow(ctx.model.extension_max_m, 2) - lateral * lateral);
+  EXPECT_NEAR(travel, 4.33, 0.01);  // >= the report's 3.9 m maximum body advance
+  EXPECT_DOUBLE_EQ(ctx.model.mass_kg, 3180.0);
+}
+
+TEST(RoverConfig, BadValuesNameTheFileAndKey) {
+  const auto dir = std::filesystem::temp_directory_path() / "ambler_rover_config_test";
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& text) {
+    std::ofstream(dir / "rover.json") << text;
+    return dir / "rover.json";
+  };
+  try {
+    readRoverConfig(write(R"({"rover": {"extension_m": [2.0, 1.0]}})"));
+    FAIL() << "accepted an empty extension range";
+  } catch (const io::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("extension_m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rover.json"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(readRoverConfig(write(R"({"gait": {"max_body_advance_m": 5}})")), io::FormatError);
+  EXPECT_THROW(readRoverConfig(write(R"({"gait": {"pitch_m": "wide"}})")), io::FormatError);
+  EXPECT_THROW(readRoverConfig(write(R"({"rover": )")), io::FormatError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Heading, ArcsAreExact) {
+  const BodyPose start{{1, 2}, 0.3, 2.4};
+  Heading arc;
+  arc.radius_m = 5.0;  // a quarter circle to the left
+  const BodyPose end = arc.advance(start, 5.0 * M_PI / 2);
+  EXPECT_NEAR((start.toBody(end.xy) - Eigen::Vector2d(-5, 5)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(end.heading_rad, 0.3 + M_PI / 2, 1e-12);
+  const BodyPose straight = Heading{}.advance(start, 2.0);
+  EXPECT_NEAR((start.toBody(straight.xy) - Eigen::Vector2d(0, 2)).norm(), 0.0, 1e-12);
+  Heading turn;
+  turn.radius_m = 0.0;
+  turn.point_turn_left = false;
+  const BodyPose turned = turn.advance(start, 0.5);
+  EXPECT_NEAR((turned.xy - start.xy).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(turned.heading_rad, 0.3 - 0.5, 1e-12);
+}
+
+TEST(Stance, NominalStanceKeepsEveryConstraint) {
+  const GaitContext ctx = context();
+  const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  const StanceCheck check = checkStance(s, ctx.model, ctx.gait.csp_margin_m);
+  EXPECT_TRUE(check.ok()) << constraintName(check.violated) << " leg " << check.leg;
+  // The nearest CSP edge is the support edge without the left front foot:
+  // from (-2.25, -0.25) to (2.25, 1.25), y = 0.5 + x / 3, 0.5 / sqrt(10 / 9)
+  // from the centre.
+  EXPECT_NEAR(check.csp_margin_m, 1.5 / std::sqrt(10.0), 1e-9);
+}
+
+// Straight ahead from the nominal stance the centre of gravity meets that
+// CSP edge (y = 0.5 + x / 3) after 0.5 m, before the rear left foot (1.25 m
+// beside its shaft, 1.25 m behind) reaches full extension at
+// sqrt(2.5^2 - 1.25^2) - 1.25 = 0.915 m; without the CSP it goes that far.
+TEST(Stance, BodyMoveStopsAtTheFirstConstraint) {
+  const GaitContext ctx = context();
+  const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  const BodyMoveLimit limit = maxBodyMove(s, Heading{}, ctx.model, 0.0, 3.0, 0.001);
+  EXPECT_EQ(limit.stopped_by, Constraint::kConservativeSupport);
+  EXPECT_NEAR(limit.u, 0.5, 0.002);
+  const BodyMoveLimit no_csp = maxBodyMove(s, Heading{}, ctx.model, -10.0, 3.0, 0.001);
+  EXPECT_EQ(no_csp.stopped_by, Constraint::kKinematic);
+  EXPECT_EQ(no_csp.leg, 0);
+  EXPECT_NEAR(no_csp.u, std::sqrt(2.5 * 2.5 - 1.25 * 1.25) - 1.25, 0.002);
+}
+
+TEST(Stance, ConstraintsAreNamed) {
+  const GaitContext ctx = context();
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  Stance close = s;
+  close.feet[1] = close.feet[0] + Eigen::Vector3d(0.2, 0.2, 0);
+  EXPECT_EQ(checkStance(close, ctx.model, 0.0).violated, Constraint::kLegLeg);
+  Stance under = s;
+  under.feet[4] = {0.5, 0.2, 0.0};  // under the body
+  EXPECT_EQ(checkStance(under, ctx.model, 0.0).violated, Constraint::kLegBody);
+  Stance deep = s;
+  deep.feet[2].z() = -1.0;  // 3.4 m below the links: beyond the vertical travel
+  EXPECT_EQ(checkStance(deep, ctx.model, 0.0).violated, Constraint::kKinematic);
+  EXPECT_EQ(checkStance(s, ctx.model, 5.0).violated, Constraint::kConservativeSupport);
+}
+
+// Twelve steps on flat, known ground: every leg recovers (circulation),
+// every step keeps the CSP margin and the body advances.
+TEST(GaitPlanner, CirculatesAllSixLegsOnFlatGround) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  std::set<int> recovered;
+  for (int step = 0; step < 12; ++step) {
+    const StepPlan plan = planStep(s, Heading{}, map, ctx);
+    ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
+    if (plan.leg >= 0) {
+      recovered.insert(plan.leg);
+      EXPECT_TRUE(plan.recovery.found);
+      EXPECT_GE(marginWithout(s, ctx.model, plan.leg), ctx.gait.csp_margin_m);
+    }
+    EXPECT_GE(plan.min_csp_margin, ctx.gait.csp_margin_m - 1e-9);
+    EXPECT_TRUE(checkStance(plan.after, ctx.model, ctx.gait.csp_margin_m).ok());
+    s = plan.after;
+  }
+  EXPECT_EQ(recovered.size(), 6u);
+  EXPECT_GT(s.body.xy.y(), 5.0);
+  EXPECT_NEAR(s.body.xy.x(), 0.0, 0.05);
+}
+
+TEST(GaitPlanner, FollowsAnArcOfGivenRadius) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Heading arc;
+  arc.radius_m = 8.0;
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  for (int step = 0; step < 10; ++step) {
+    const StepPlan plan = planStep(s, arc, map, ctx);
+    ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
+    s = plan.after;
+  }
+  EXPECT_GT(s.body.heading_rad, 0.3);
+  EXPECT_NEAR((s.body.xy - Eigen::Vector2d(-8, 0)).norm(), 8.0, 0.05);  // on the circle
+}
+
+TEST(GaitPlanner, TurnsInPlace) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Heading turn;
+  turn.radius_m = 0.0;
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  for (int step = 0; step < 6; ++step) {
+    const StepPlan plan = planStep(s, turn, map, ctx);
+    ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
+    EXPECT_TRUE(checkStance(plan.after, ctx.model, ctx.gait.csp_margin_m).ok());
+    s = plan.after;
+  }
+  EXPECT_GT(s.body.heading_rad, 0.7);  // 40 degrees and more
+  EXPECT_LT(s.body.xy.norm(), 0.3);    // without walking off
+}
+
+TEST(GaitPlanner, NeedsKnownGround) {
+  const GaitContext ctx = context();
+  terrain::ElevationMap unknown(GridSpec::covering({-12, -12, 12, 30}, 0.1));
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  s = moveBody(s, Heading{}, 0.3);  // so that legs may lift
+  const StepPlan plan = planStep(s, Heading{}, unknown, ctx);
+  EXPECT_EQ(plan.leg, -1);  // no foothold on unknown ground
+}
+
+// A wall too tall to lift over between the start and the goal: the path
+// goes around it; a low block is lifted over.
+TEST(LegRecovery, GoesAroundWhatItCannotLiftOver) {
+  const GaitContext ctx = context();
+  const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  const int leg = 5;  // right front, moved further back and out
+  const Eigen::Vector3d goal(3.0, -0.8, 0.0);
+  auto wall = [](double height) {
+    return [height](const Eigen::Vector2d& p, double radius) {
+      const bool near = std::abs(p.y() - 0.75) < 0.1 + radius && p.x() > 1.8 - radius;
+      return near ? height : 0.0;
+    };
+  };
+  const RecoveryPlan low = planLegRecovery(ctx.model, s, leg, goal, wall(0.8));
+  ASSERT_TRUE(low.found);
+  EXPECT_GE(low.max_lift_m, 0.8 + ctx.recovery.clearance_m - 1e-9);
+  const RecoveryPlan tall = planLegRecovery(ctx.model, s, leg, goal, wall(5.0));
+  ASSERT_TRUE(tall.found);
+  for (const auto& q : tall.waypoints) {
+    const Eigen::Vector2d foot = ctx.model.footInBody(leg, q).head<2>();
+    EXPECT_FALSE(std::abs(foot.y() - 0.75) < 0.1 && foot.x() > 1.8) << foot.transpose();
+  }
+  EXPECT_GT(tall.time_s, low.time_s);
+  // Power against time: making energy dearer never makes the plan use more.
+  RecoveryOptions thrifty = ctx.recovery;
+  thrifty.power_time_ratio = 20.0;
+  EXPECT_LE(planLegRecovery(ctx.model, s, leg, goal, wall(0.8), thrifty).energy_j,
+            low.energy_j + 1e-6);
+}
+
+TEST(GaitPlanner, ReanchorsOnASlightlyDifferentStance) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Stance s = moveBody(nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait), Heading{}, 0.3);
+  const StepPlan plan = planStep(s, Heading{}, map, ctx);
+  ASSERT_TRUE(plan.ok);
+  ASSERT_GE(plan.leg, 0);
+  Stance actual = s;
+  actual.body.xy += Eigen::Vector2d(0.02, -0.01);
+  const auto moved = reanchorStep(plan, s, actual, Heading{}, ctx);
+  ASSERT_TRUE(moved.has_value());
+  EXPECT_NEAR((moved->foothold - plan.foothold).head<2>().norm(), std::hypot(0.02, 0.01), 1e-9);
+  Stance far = s;
+  far.feet[std::size_t((plan.leg + 1) % 6)] += Eigen::Vector3d(0, -3, 0);  // out of reach
+  EXPECT_FALSE(reanchorStep(plan, s, far, Heading{}, ctx).has_value());
+}
+
+}  // namespace
+}  // namespace ambler::gait

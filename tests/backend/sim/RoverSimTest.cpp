@@ -1,0 +1,129 @@
+// The simulated rover executing leg and body moves (cmu-1990 'Real-time
+// control'): synchronised joints, contact stop, trapezoidal body moves,
+// slip and collisions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gait/GaitPlanner.h"
+#include "sim/RoverSim.h"
+
+namespace ambler::sim {
+namespace {
+
+// Flat ground at z = 0 with an optional block.
+class BlockGround : public Terrain {
+ public:
+  explicit BlockGround(Box2 block = {}, double height = 0.0) : block_(block), height_(height) {}
+  double height(double x, double y) const override { return block_.contains(x, y) ? height_ : 0.0; }
+  double maxHeightIn(const Box2&) const override { return height_; }
+  Box2 extent() const override { return {-50, -50, 50, 50}; }
+
+ private:
+  Box2 block_;
+  double height_;
+};
+
+ExecutionNoise noNoise() {
+  ExecutionNoise n;
+  n.encoder_rotation_rad = n.encoder_extension_m = n.encoder_vertical_m = 0;
+  n.placement_m = n.body_m = n.body_rad = n.slip_probability = 0;
+  return n;
+}
+
+gait::Stance start(const Terrain& t, const gait::RoverModel& m) {
+  return settleOnTerrain(gait::nominalStance({{0, 0}, 0.0, 2.4}, m, gait::GaitOptions{}), t, m);
+}
+
+TEST(RoverSim, JointsArriveTogetherAndTheFootStopsOnContact) {
+  const BlockGround ground;
+  const gait::RoverModel m;
+  RoverSim rover(ground, m, noNoise(), start(ground, m));
+  const gait::LegJoints q0 = rover.truth().joints(m, 5);
+  // Lift 0.5 m; swing 0.3 rad while extending 0.1 m; lower towards 0.2 m
+  // below the ground.
+  const gait::LegJoints up{q0.rotation_rad, q0.extension_m, q0.vertical_m - 0.5};
+  const gait::LegJoints over{q0.rotation_rad + 0.3, q0.extension_m - 0.1, up.vertical_m};
+  const gait::LegJoints down{over.rotation_rad, over.extension_m, q0.vertical_m + 0.2};
+  const MoveReport r = rover.executeLeg({5, {up, over, down}});
+  EXPECT_TRUE(r.completed);
+  EXPECT_EQ(r.event, "touch-down");
+  EXPECT_EQ(r.collisions, 0);
+  // 0.5 m up, then max(0.3 rad, 0.1 m) at 0.15 per second, then 0.5 m down
+  // to the ground where the contact stops it.
+  const double expected =
+      0.5 / m.vertical_speed_m_s + 0.3 / m.rotation_speed_rad_s + 0.5 / m.vertical_speed_m_s;
+  EXPECT_NEAR(r.duration_s, expected, 0.03 * expected);
+  const gait::LegJoints landed = rover.truth().joints(m, 5);
+  EXPECT_NEAR(landed.rotation_rad, over.rotation_rad, 1e-9);
+  EXPECT_NEAR(rover.truth().feet[5].z(), 0.0, 1e-9);
+  EXPECT_TRUE(rover.legStates()[5].contact);
+}
+
+TEST(RoverSim, ASwingThroughABlockIsACollision) {
+  const gait::RoverModel m;
+  const BlockGround flat;
+  const gait::Stance s = start(flat, m);
+  const Eigen::Vector3d foot = s.feet[5];
+  const BlockGround ground({foot.x() + 0.3, foot.y() - 1.0, foot.x() + 0.6, foot.y() + 1.0}, 1.0);
+  RoverSim rover(ground, m, noNoise(), s);
+  const gait::LegJoints q0 = s.joints(m, 5);
+  const gait::LegJoints up{q0.rotation_rad, q0.extension_m, q0.vertical_m - 0.5};  // 0.5 m lift
+  const gait::LegJoints out{q0.rotation_rad, q0.extension_m + 0.8, up.vertical_m};
+  const gait::LegJoints down{out.rotation_rad, out.extension_m, q0.vertical_m};
+  const MoveReport r = rover.executeLeg({5, {up, out, down}});
+  EXPECT_FALSE(r.completed);
+  EXPECT_EQ(r.event, "unexpected contact");
+  EXPECT_EQ(r.collisions, 1);
+}
+
+TEST(RoverSim, BodyMovesFollowATrapezoidalProfile) {
+  const BlockGround ground;
+  const gait::RoverModel m;
+  RoverSim rover(ground, m, noNoise(), start(ground, m));
+  const MoveReport r = rover.executeBody({{0.0, 0.3}, 0.0, 0.0});
+  // v^2 / a = 0.111 m < 0.3 m: cruise, with v / a seconds lost to ramps.
+  EXPECT_NEAR(r.duration_s, 0.3 / m.body_speed_m_s + m.body_speed_m_s / m.body_accel_m_s2, 1e-9);
+  EXPECT_NEAR((rover.truth().body.xy - Eigen::Vector2d(0, 0.3)).norm(), 0.0, 1e-12);
+  // The centre of gravity nears the CSP edge y = 0.5 + x / 3 of the nominal
+  // stance: 0.2 m short of it along y at the end.
+  EXPECT_NEAR(r.min_csp_margin_m, 0.2 / std::sqrt(10.0 / 9.0), 1e-9);
+  EXPECT_EQ(rover.trace().size(), 15u);  // sampled every 2 cm
+  // Short moves never reach cruise speed: 2 sqrt(d / a).
+  EXPECT_NEAR(rover.executeBody({{0.0, 0.05}, 0.0, 0.0}).duration_s, 2 * std::sqrt(0.05 / 0.01),
+              1e-9);
+}
+
+TEST(RoverSim, SlipsMoveFeetAndEncodersReportTheTruth) {
+  const BlockGround ground;
+  const gait::RoverModel m;
+  ExecutionNoise n = noNoise();
+  n.slip_probability = 1.0;
+  n.slip_m = 0.05;
+  const gait::Stance s = start(ground, m);
+  RoverSim rover(ground, m, n, s);
+  rover.executeBody({{0.0, 0.2}, 0.0, 0.0});
+  EXPECT_EQ(rover.slips(), 6);
+  for (int i = 0; i < gait::kLegCount; ++i) {
+    EXPECT_NEAR((rover.truth().feet[std::size_t(i)] - s.feet[std::size_t(i)]).head<2>().norm(),
+                0.05, 1e-9);
+    const gait::LegJoints q = rover.legStates()[std::size_t(i)].joints;
+    EXPECT_NEAR(
+        (m.footInBody(i, q) - rover.truth().body.toBody(rover.truth().feet[std::size_t(i)])).norm(),
+        0.0, 1e-9);
+  }
+}
+
+TEST(RoverSim, RefusesMalformedCommands) {
+  const BlockGround ground;
+  const gait::RoverModel m;
+  RoverSim rover(ground, m, noNoise(), start(ground, m));
+  EXPECT_THROW(rover.executeLeg({7, {gait::LegJoints{}}}), std::invalid_argument);
+  EXPECT_THROW(rover.executeLeg({1, {}}), std::invalid_argument);
+  EXPECT_THROW(rover.executeLeg({1, {{NAN, 1.0, 1.0}}}), std::invalid_argument);
+  EXPECT_THROW(rover.executeBody({{INFINITY, 0.0}, 0.0, 0.0}), std::invalid_argument);
+  EXPECT_TRUE(rover.trace().empty());  // nothing was executed
+}
+
+}  // namespace
+}  // namespace ambler::sim
