@@ -226,3 +226,28 @@ TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
 }
 
 }  // namespace
+
+namespace {
+
+// walk prints the issue's keys; a broken rover configuration is named.
+TEST(Cli, WalkPrintsTheWalksFigures) {
+  const auto run = runCli("walk --seed 4 --steps 6 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  for (const char* key : {"steps", "distance_m", "min_stability_margin_m", "csp_violations",
+                          "leg_collisions", "plan_ms_median", "dead_reckoning_error_m"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["steps"], 6);
+  EXPECT_EQ(j["csp_violations"], 0);
+  EXPECT_GT(j["distance_m"].get<double>(), 1.0);
+
+  TempDir dir;
+  std::ofstream(dir / "rover.json") << R"({"gait": {"csp_margin_m": -1}})";
+  const auto bad = runCli("walk --steps 2 --config " + (dir / "rover.json").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("csp_margin_m"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("rover.json"), std::string::npos) << bad.out;
+  EXPECT_NE(runCli("walk --radius 5 --turn left").exit_code, 0);  // one or the other
+}
+
+}  // namespace
