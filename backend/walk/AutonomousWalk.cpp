@@ -1,6 +1,5 @@
 #include "walk/AutonomousWalk.h"
 
-#include <omp.h>
 #include <algorithm>
 #include <chrono>
 #include <future>
@@ -241,10 +240,7 @@ WalkResult Walker::run() {
       // TCA: while the rover executes this step and scans, the previous
       // scan is mapped and the next step planned on the predicted stance.
       // A surprise (unexpected contact, slip, drift) forces a replan.
-      auto running = std::async(std::launch::async, [&] {
-        omp_set_num_threads(1);  // the rover's own processor: one core
-        return execute(current, k + 1);
-      });
+      auto running = std::async(std::launch::async, [&] { return execute(current, k + 1); });
       if (pending) integrate(*pending);
       next = plan(current.plan.after);
       Executed done = running.get();
