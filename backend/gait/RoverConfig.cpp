@@ -1,6 +1,8 @@
 #include "gait/RoverConfig.h"
 
+#include <initializer_list>
 #include <stdexcept>
+#include <utility>
 
 #include "io/Json.h"
 
@@ -60,39 +62,36 @@ void readRover(const io::JsonFields& f, RoverModel& m) {
   }
 }
 
+// The keys of one section that are plain numbers; missing keys keep their value.
+using NumberKeys = std::initializer_list<std::pair<const char*, double*>>;
+void readNumbers(const io::JsonFields& f, NumberKeys keys) {
+  for (const auto& [key, value] : keys)
+    if (f.has(key)) *value = f.number(key);
+}
+
 void readGait(const io::JsonFields& f, GaitOptions& g) {
-  const struct {
-    const char* key;
-    double* value;
-  } numbers[] = {{"tread_m", &g.tread_m},
-                 {"pitch_m", &g.pitch_m},
-                 {"max_body_advance_m", &g.max_body_advance_m},
-                 {"csp_margin_m", &g.csp_margin_m},
-                 {"execution_slack_m", &g.execution_slack_m},
-                 {"search_half_m", &g.search_half_m},
-                 {"tread_tolerance_m", &g.tread_tolerance_m},
-                 {"pattern_weight", &g.pattern_weight},
-                 {"max_stack_span_pitches", &g.max_stack_span_pitches},
-                 {"body_step_m", &g.body_step_m}};
-  for (const auto& n : numbers)
-    if (f.has(n.key)) *n.value = f.number(n.key);
+  readNumbers(f, {{"tread_m", &g.tread_m},
+                  {"pitch_m", &g.pitch_m},
+                  {"max_body_advance_m", &g.max_body_advance_m},
+                  {"csp_margin_m", &g.csp_margin_m},
+                  {"execution_slack_m", &g.execution_slack_m},
+                  {"search_half_m", &g.search_half_m},
+                  {"tread_tolerance_m", &g.tread_tolerance_m},
+                  {"pattern_weight", &g.pattern_weight},
+                  {"max_stack_span_pitches", &g.max_stack_span_pitches},
+                  {"body_step_m", &g.body_step_m}});
   if (f.has("max_body_turn_deg")) g.max_body_turn_rad = f.number("max_body_turn_deg") * M_PI / 180;
   if (f.has("max_candidates_per_leg"))
     g.max_candidates_per_leg = f.integer("max_candidates_per_leg");
 }
 
 void readRecovery(const io::JsonFields& f, RecoveryOptions& r) {
-  const struct {
-    const char* key;
-    double* value;
-  } numbers[] = {{"rotation_step_rad", &r.rotation_step_rad},
-                 {"extension_step_m", &r.extension_step_m},
-                 {"clearance_m", &r.clearance_m},
-                 {"uncertainty_m", &r.uncertainty_m},
-                 {"power_time_ratio", &r.power_time_ratio},
-                 {"leg_mass_kg", &r.leg_mass_kg}};
-  for (const auto& n : numbers)
-    if (f.has(n.key)) *n.value = f.number(n.key);
+  readNumbers(f, {{"rotation_step_rad", &r.rotation_step_rad},
+                  {"extension_step_m", &r.extension_step_m},
+                  {"clearance_m", &r.clearance_m},
+                  {"uncertainty_m", &r.uncertainty_m},
+                  {"power_time_ratio", &r.power_time_ratio},
+                  {"leg_mass_kg", &r.leg_mass_kg}});
 }
 
 void validate(const RecoveryOptions& r) {

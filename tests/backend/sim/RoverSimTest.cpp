@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "gait/GaitPlanner.h"
+#include "io/FormatError.h"
 #include "sim/RoverSim.h"
 
 namespace ambler::sim {
@@ -123,6 +126,23 @@ TEST(RoverSim, RefusesMalformedCommands) {
   EXPECT_THROW(rover.executeLeg({1, {{NAN, 1.0, 1.0}}}), std::invalid_argument);
   EXPECT_THROW(rover.executeBody({{INFINITY, 0.0}, 0.0, 0.0}), std::invalid_argument);
   EXPECT_TRUE(rover.trace().empty());  // nothing was executed
+}
+
+TEST(RoverSim, NoiseConfigurationIsChecked) {
+  const auto path = std::filesystem::temp_directory_path() / "ambler_rover_noise_test.json";
+  std::ofstream(path) << R"({"simulation": {"slip_probability": 2.0}})";
+  try {
+    readExecutionNoise(path);
+    FAIL() << "accepted a probability of 2";
+  } catch (const io::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("slip_probability"), std::string::npos) << e.what();
+  }
+  std::ofstream(path) << R"({"simulation": {"slip_m": 0.02, "seed": 9}})";
+  const ExecutionNoise n = readExecutionNoise(path);
+  EXPECT_DOUBLE_EQ(n.slip_m, 0.02);
+  EXPECT_EQ(n.seed, 9u);
+  EXPECT_DOUBLE_EQ(n.placement_m, ExecutionNoise{}.placement_m);  // the default kept
+  std::filesystem::remove(path);
 }
 
 }  // namespace
