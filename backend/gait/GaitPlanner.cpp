@@ -255,10 +255,11 @@ namespace {
 // when nothing else is possible.
 std::vector<LegCandidate> rankedCandidates(const Stance& stance, const Heading& heading,
                                            const terrain::ElevationMap& map, const GaitContext& ctx,
-                                           const std::optional<footfall::ScannerView>& scanner) {
+                                           const std::optional<footfall::ScannerView>& scanner,
+                                           double max_widen = 3.0) {
   std::vector<LegCandidate> out;
   const auto legs = liftableLegs(stance, ctx.model, ctx.gait.csp_margin_m);
-  for (double widen : {1.0, 2.0, 3.0}) {
+  for (double widen = 1.0; widen <= max_widen; widen += 1.0) {
     for (int leg : legs)
       if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, widen)) out.push_back(*c);
     if (std::any_of(out.begin(), out.end(), [](const auto& c) { return c.keeps_cycle; })) break;
@@ -292,7 +293,10 @@ void preferOpenFutures(std::vector<LegCandidate>& ranked, const Stance& stance,
                        const Heading& heading, const terrain::ElevationMap& map,
                        const GaitContext& ctx) {
   std::stable_partition(ranked.begin(), ranked.end(), [&](const LegCandidate& c) {
-    const auto next = rankedCandidates(afterStep(stance, c, heading, ctx), heading, map, ctx, {});
+    // Around the ideal footholds only: enough to see a dead end coming, and
+    // it keeps a step's planning time even.
+    const auto next =
+        rankedCandidates(afterStep(stance, c, heading, ctx), heading, map, ctx, {}, 2.0);
     return std::any_of(next.begin(), next.end(), [](const auto& n) { return n.keeps_cycle; });
   });
 }

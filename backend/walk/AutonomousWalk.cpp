@@ -9,6 +9,7 @@
 #include "footfall/FootfallConfig.h"
 #include "gait/DeadReckoning.h"
 #include "gait/RoverConfig.h"
+#include "sim/HeightfieldTerrain.h"
 #include "sim/ObstacleCourse.h"
 #include "sim/RayCaster.h"
 #include "terrain/Locus.h"
@@ -54,13 +55,25 @@ struct Executed {
   sensor::RangeImage scan;  // from where the step ended, still in the true pose
 };
 
+// The scanner's view of the course: the exact terrain sampled every 2 cm
+// over the walk's map (plus the scanner's reach) and interpolated, so a
+// simulated scan costs the rover little next to the ground station's work
+// (the rover's own feet still meet the exact terrain).
+sim::HeightfieldTerrain sampledCourse(const sim::Terrain& terrain, const Box2& map_extent) {
+  const Box2 area{map_extent.x_min - 5, map_extent.y_min - 5, map_extent.x_max + 5,
+                  map_extent.y_max + 12};
+  const GridSpec grid = GridSpec::covering(area, 0.02);
+  return sim::HeightfieldTerrain(sim::sampleHeights(terrain, grid), grid);
+}
+
 class Walker {
  public:
   Walker(const WalkConfig& config, const WalkOptions& options)
       : cfg_(config),
         opt_(options),
         terrain_(sim::makeObstacleCourse({.seed = options.seed})),
-        caster_(terrain_, {.cell_size = 0.25, .step = 0.05}),
+        seen_(sampledCourse(terrain_, options.map_extent)),
+        caster_(seen_, {.cell_size = 0.25, .step = 0.05}),
         map_(GridSpec::covering(options.map_extent, options.map_resolution_m)),
         rover_(terrain_, config.gait.model, noiseFor(config.noise, options.seed),
                sim::settleOnTerrain(gait::nominalStance({}, config.gait.model, config.gait.gait),
@@ -85,6 +98,7 @@ class Walker {
   const WalkConfig& cfg_;
   const WalkOptions& opt_;
   sim::ProceduralTerrain terrain_;
+  sim::HeightfieldTerrain seen_;  // what the scanner's rays meet
   sim::RayCaster caster_;
   terrain::ElevationMap map_;
   sim::RoverSim rover_;
