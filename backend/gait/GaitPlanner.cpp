@@ -114,6 +114,8 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
   for (int k = 0; k < tries; ++k) {
     const int cell = order[std::size_t(k)].second;
     const Eigen::Vector2d xy = g.cellCenter(cell / g.cols, cell % g.cols);
+    // Setting a foot down where it stood is no step.
+    if ((xy - stance.feet[std::size_t(leg)].head<2>()).norm() < ctx.gait.pitch_m / 4) continue;
     // Keep the tread: the stance's CSP depends on it more than on the pitch.
     if (std::abs((xy - ideal).dot(lateral)) > ctx.gait.tread_tolerance_m * widen) continue;
     const double z = soleHeight(map, xy, 0.5 * m.foot_diameter_m);
