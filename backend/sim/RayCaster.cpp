@@ -74,7 +74,7 @@ std::optional<double> RayCaster::cast(const Eigen::Vector3d& o, const Eigen::Vec
         const double gap = groundGap(o, d, t);
         if (prev_gap > 0.0 && gap <= 0.0) {
           double a = prev_t, b = t;
-          for (int i = 0; i < 48; ++i) {
+          for (int i = 0; i < 48 && b - a > options_.tolerance; ++i) {
             const double m = 0.5 * (a + b);
             (groundGap(o, d, m) > 0.0 ? a : b) = m;
           }

@@ -12,6 +12,7 @@ struct RayCasterOptions {
   double cell_size = 0.5;  // bins of the upper-bound grid [m]
   double step = 0.02;      // marching step near the ground [m]; features
                            // thinner than this may be missed
+  double tolerance = 0.0;  // bisection stops at this bracket [m]; 0: machine precision
 };
 
 // Casts rays against a Terrain. Space above a per-bin upper bound of the

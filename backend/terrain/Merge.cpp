@@ -1,7 +1,10 @@
 #include "terrain/Merge.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
+
+#include "core/Region.h"
 
 namespace ambler::terrain {
 
@@ -14,30 +17,31 @@ void mergeInto(ElevationMap& map, const ElevationMap& update) {
     throw std::invalid_argument("cannot merge a map in frame '" + update.frame() +
                                 "' into one in frame '" + map.frame() + "'");
   const GridSpec& grid = map.grid();
-  for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c) {
-      const auto p = grid.cellCenter(r, c);
-      const auto source = update.grid().cellAt(p.x(), p.y());
-      if (!source) continue;
-      const int ur = source->row, uc = source->col;
-      const auto incoming = update.state(ur, uc);
-      if (incoming == CellState::kUnknown) continue;
-      if (incoming == CellState::kShadow) {
-        if (map.state(r, c) == CellState::kUnknown) map.setUnobserved(r, c, CellState::kShadow);
-        continue;
-      }
-      const double z_b = update.elevation(ur, uc);
-      const double s_b = std::max<double>(update.sigma(ur, uc), kMinSigma);
-      const float n_b = update.count(ur, uc);
-      if (!map.isKnown(r, c)) {
-        map.setKnown(r, c, z_b, s_b, n_b);
-        continue;
-      }
-      const double s_a = std::max<double>(map.sigma(r, c), kMinSigma);
-      const double w_a = 1.0 / (s_a * s_a), w_b = 1.0 / (s_b * s_b);
-      const double z = (w_a * map.elevation(r, c) + w_b * z_b) / (w_a + w_b);
-      map.setKnown(r, c, z, 1.0 / std::sqrt(w_a + w_b), map.count(r, c) + n_b);
+  // Only the map cells under the update: a view is small next to a local
+  // terrain map the rover carries along.
+  forEachCellIn(grid, update.grid().bounds(), [&](int r, int c) {
+    const auto p = grid.cellCenter(r, c);
+    const auto source = update.grid().cellAt(p.x(), p.y());
+    if (!source) return;
+    const int ur = source->row, uc = source->col;
+    const auto incoming = update.state(ur, uc);
+    if (incoming == CellState::kUnknown) return;
+    if (incoming == CellState::kShadow) {
+      if (map.state(r, c) == CellState::kUnknown) map.setUnobserved(r, c, CellState::kShadow);
+      return;
     }
+    const double z_b = update.elevation(ur, uc);
+    const double s_b = std::max<double>(update.sigma(ur, uc), kMinSigma);
+    const float n_b = update.count(ur, uc);
+    if (!map.isKnown(r, c)) {
+      map.setKnown(r, c, z_b, s_b, n_b);
+      return;
+    }
+    const double s_a = std::max<double>(map.sigma(r, c), kMinSigma);
+    const double w_a = 1.0 / (s_a * s_a), w_b = 1.0 / (s_b * s_b);
+    const double z = (w_a * map.elevation(r, c) + w_b * z_b) / (w_a + w_b);
+    map.setKnown(r, c, z, 1.0 / std::sqrt(w_a + w_b), map.count(r, c) + n_b);
+  });
 }
 
 }  // namespace ambler::terrain

@@ -73,7 +73,7 @@ class Walker {
         opt_(options),
         terrain_(sim::makeObstacleCourse({.seed = options.seed})),
         seen_(sampledCourse(terrain_, options.map_extent)),
-        caster_(seen_, {.cell_size = 0.25, .step = 0.1}),
+        caster_(seen_, {.cell_size = 0.25, .step = 0.1, .tolerance = 1e-3}),
         map_(GridSpec::covering(options.map_extent, options.map_resolution_m)),
         rover_(terrain_, config.gait.model, noiseFor(config.noise, options.seed),
                sim::settleOnTerrain(gait::nominalStance({}, config.gait.model, config.gait.gait),
