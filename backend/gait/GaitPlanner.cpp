@@ -380,26 +380,22 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
   const auto& m = ctx.model;
   const double margin = ctx.gait.csp_margin_m;
   if (plan.leg < 0) return std::nullopt;  // a body-only step is cheap to plan again
+  if (marginWithout(actual, m, plan.leg) < margin) return std::nullopt;
   StepPlan moved = plan;
+  moved.foothold = actual.body.toWorld(planned_from.body.toBody(plan.foothold));
+  moved.foothold.z() = plan.foothold.z();
   Stance placed = actual;
-  if (plan.leg >= 0) {
-    if (marginWithout(actual, m, plan.leg) < margin) return std::nullopt;
-    const Eigen::Vector3d in_body = planned_from.body.toBody(plan.foothold);
-    moved.foothold = actual.body.toWorld(in_body);
-    moved.foothold.z() = plan.foothold.z();
-    placed.feet[std::size_t(plan.leg)] = moved.foothold;
-  }
+  placed.feet[std::size_t(plan.leg)] = moved.foothold;
   if (!checkStance(placed, m, margin).ok()) return std::nullopt;
   placed.body.link_z = plan.after_leg.body.link_z;
-  const BodyMoveLimit limit =
-      maxBodyMove(placed, heading, m, margin, plan.body_u, ctx.gait.body_step_m);
-  if (limit.u < plan.body_u - 1e-9) return std::nullopt;
+  if (!checkStance(placed, m, margin).ok()) return std::nullopt;
+  // The body move is derived again on the real stance, so that the leg due
+  // next can still lift after it (it may come out a little shorter).
+  const BodyMoveLimit body = bodyMoveKeepingALegFree(placed, heading, ctx);
+  if (body.u < ctx.gait.body_step_m || !body.next_can_lift) return std::nullopt;
+  moved.body_u = body.u;
   moved.after_leg = placed;
-  moved.after = moveBody(placed, heading, plan.body_u);
-  // And the step after it must still start: the leg due next can lift.
-  const auto free = liftableLegs(moved.after, m, margin + ctx.gait.execution_slack_m);
-  if (std::find(free.begin(), free.end(), nextToRecover(moved.after, heading, m)) == free.end())
-    return std::nullopt;
+  moved.after = moveBody(placed, heading, body.u);
   return moved;
 }
 
