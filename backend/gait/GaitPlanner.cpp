@@ -65,6 +65,56 @@ double uMax(const Heading& heading, const GaitOptions& g) {
   return w > 0 ? std::min(g.max_body_advance_m, g.max_body_turn_rad / w) : g.max_body_advance_m;
 }
 
+// The supporting leg with the least travel left before its reach stops
+// the body: the one that must recover next.
+int nextToRecover(const Stance& stance, const Heading& heading, const RoverModel& m) {
+  int worst = -1;
+  double least = INFINITY;
+  for (int i = 0; i < kLegCount; ++i) {
+    if (!stance.supporting[std::size_t(i)]) continue;
+    footfall::LegContext lc;
+    lc.shaft = stance.body.toWorld(m.shaftOf(i));
+    lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(i)));
+    const double left =
+        footfall::bodyAdvance(stance.feet[std::size_t(i)].head<2>(), lc, m.extension_max_m, 10.0);
+    if (left < least) least = left, worst = i;
+  }
+  return worst;
+}
+
+// The largest body move (within the options' caps) after which some leg
+// may lift, and what stopped it; u is negative when there is none, not even
+// at u = 0.
+struct FreeMove : BodyMoveLimit {
+  bool next_can_lift = false;  // the leg due next, not just some leg
+};
+
+FreeMove bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
+                                 const GaitContext& ctx) {
+  const auto& g = ctx.gait;
+  FreeMove limit{
+      maxBodyMove(stance, heading, ctx.model, g.csp_margin_m, uMax(heading, g), g.body_step_m)};
+  // Prefer to stop where the leg that must recover next can lift; else
+  // where any leg can.
+  for (bool strict : {true, false})
+    for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
+      const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
+      // With slack: execution and dead-reckoning errors of a few
+      // centimetres must not take the next leg's margin below the limit.
+      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m);
+      const bool ok = strict ? std::find(free.begin(), free.end(),
+                                         nextToRecover(moved, heading, ctx.model)) != free.end()
+                             : !free.empty();
+      if (ok) {
+        limit.u = std::max(u, 0.0);
+        limit.next_can_lift = strict;
+        return limit;
+      }
+    }
+  limit.u = -1.0;
+  return limit;
+}
+
 // Tries the cheapest cells of leg's composite cost map until one keeps
 // every constraint and leaves a body move after which a leg can lift.
 std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& heading,
@@ -129,7 +179,7 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     Stance raised = placed;
     raised.body.link_z = linkHeightFor(placed, m);
     if (!checkStance(raised, m, ctx.gait.csp_margin_m).ok()) continue;
-    const BodyMoveLimit next = bodyMoveKeepingALegFree(raised, heading, ctx);
+    const FreeMove next = bodyMoveKeepingALegFree(raised, heading, ctx);
     // A placement that frees no advance is still worth it when it lets the
     // leg that blocks the body lift next (a shuffle step).
     const auto freed = liftableLegs(raised, m, ctx.gait.csp_margin_m);
@@ -202,49 +252,6 @@ double linkHeightFor(const Stance& stance, const RoverModel& m) {
   }
   const double want = sum / std::max(n, 1) + m.link_plane_nominal_m;
   return lo <= hi ? std::clamp(want, lo, hi) : want;
-}
-
-// The supporting leg with the least travel left before its reach stops
-// the body: the one that must recover next.
-int nextToRecover(const Stance& stance, const Heading& heading, const RoverModel& m) {
-  int worst = -1;
-  double least = INFINITY;
-  for (int i = 0; i < kLegCount; ++i) {
-    if (!stance.supporting[std::size_t(i)]) continue;
-    footfall::LegContext lc;
-    lc.shaft = stance.body.toWorld(m.shaftOf(i));
-    lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(i)));
-    const double left =
-        footfall::bodyAdvance(stance.feet[std::size_t(i)].head<2>(), lc, m.extension_max_m, 10.0);
-    if (left < least) least = left, worst = i;
-  }
-  return worst;
-}
-
-BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
-                                      const GaitContext& ctx) {
-  const auto& g = ctx.gait;
-  BodyMoveLimit limit =
-      maxBodyMove(stance, heading, ctx.model, g.csp_margin_m, uMax(heading, g), g.body_step_m);
-  // Prefer to stop where the leg that must recover next can lift; else
-  // where any leg can.
-  for (bool strict : {true, false})
-    for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
-      const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
-      // With slack: execution and dead-reckoning errors of a few
-      // centimetres must not take the next leg's margin below the limit.
-      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m);
-      const bool ok = strict ? std::find(free.begin(), free.end(),
-                                         nextToRecover(moved, heading, ctx.model)) != free.end()
-                             : !free.empty();
-      if (ok) {
-        limit.u = std::max(u, 0.0);
-        limit.next_can_lift = strict;
-        return limit;
-      }
-    }
-  limit.u = -1.0;
-  return limit;
 }
 
 namespace {
@@ -347,7 +354,7 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   }
   placed.body.link_z = linkHeightFor(placed, m);
   plan.after_leg = placed;
-  const BodyMoveLimit move = bodyMoveKeepingALegFree(placed, heading, ctx);
+  const FreeMove move = bodyMoveKeepingALegFree(placed, heading, ctx);
   const double u = move.u;
   const Constraint stopped = move.stopped_by;
   if (u < ctx.gait.body_step_m && plan.leg < 0) {
@@ -391,7 +398,7 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
   if (!checkStance(placed, m, margin).ok()) return std::nullopt;
   // The body move is derived again on the real stance, so that the leg due
   // next can still lift after it (it may come out a little shorter).
-  const BodyMoveLimit body = bodyMoveKeepingALegFree(placed, heading, ctx);
+  const FreeMove body = bodyMoveKeepingALegFree(placed, heading, ctx);
   if (body.u < ctx.gait.body_step_m || !body.next_can_lift) return std::nullopt;
   moved.body_u = body.u;
   moved.after_leg = placed;

@@ -91,12 +91,6 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
 // every leg's vertical range.
 double linkHeightFor(const Stance& stance, const RoverModel& model);
 
-// The largest body move (<= the options' caps) after which some leg may
-// lift, and what stopped it; u is negative when there is none, not even at
-// u = 0.
-BodyMoveLimit bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
-                                      const GaitContext& context);
-
 // A stance in the gait's regular pattern around `body`, feet on `ground_z`.
 Stance nominalStance(const BodyPose& body, const RoverModel& model, const GaitOptions& gait);
 

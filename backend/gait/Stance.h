@@ -90,7 +90,6 @@ struct BodyMoveLimit {
   double u = 0.0;
   Constraint stopped_by = Constraint::kNone;
   int leg = -1;
-  bool next_can_lift = false;  // bodyMoveKeepingALegFree: the leg due next can lift at u
 };
 BodyMoveLimit maxBodyMove(const Stance& stance, const Heading& heading, const RoverModel& model,
                           double csp_margin, double u_max, double step);
