@@ -87,7 +87,7 @@ class Walker {
     n.seed = n.seed * 1000003 + seed;
     return n;
   }
-  sensor::RangeImage acquire();
+  sensor::RangeImage scanFromTruth(int index) const;
   Eigen::Isometry3d mountPose(const gait::BodyPose& body) const;
   void integrate(const sensor::RangeImage& image);
   Planned plan(const gait::Stance& from);
@@ -107,12 +107,11 @@ class Walker {
 };
 
 // The scanner's work, done while the rover stands still: a range image
-// from where the rover really is, tagged with where it believes it is.
-sensor::RangeImage Walker::acquire() {
-  sensor::RangeImage image =
-      sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body), opt_.seed * 1000);
-  image.sensor_to_world = mountPose(estimate_.body);
-  return image;
+// from where the rover really is. Whoever maps it tags it with where the
+// rover believes it is.
+sensor::RangeImage Walker::scanFromTruth(int index) const {
+  return sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
+                           opt_.seed * 1000 + std::uint64_t(index));
 }
 
 Eigen::Isometry3d Walker::mountPose(const gait::BodyPose& b) const {
@@ -171,8 +170,7 @@ Executed Walker::execute(const Planned& p, int scan_index) {
     e.true_after_body = rover_.truth().body.xy;
     e.after_body = rover_.legStates();
   }
-  e.scan = sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
-                             opt_.seed * 1000 + std::uint64_t(scan_index));
+  e.scan = scanFromTruth(scan_index);
   const double modelled = e.leg.duration_s + e.body.duration_s + kScanFrameS;
   if (opt_.time_scale > 0)
     std::this_thread::sleep_until(t0 +
@@ -231,7 +229,9 @@ bool Walker::diverged(const gait::Stance& predicted) const {
 
 WalkResult Walker::run() {
   const Eigen::Vector2d start = rover_.truth().body.xy;
-  integrate(acquire());
+  sensor::RangeImage first = scanFromTruth(0);
+  first.sensor_to_world = mountPose(estimate_.body);
+  integrate(first);
   Planned next = plan(estimate_);
   // The walk's wall time runs from the first command sent (set-up and the
   // first scan and plan are the same in both modes).
@@ -262,16 +262,17 @@ WalkResult Walker::run() {
       done.scan.sensor_to_world = mountPose(estimate_.body);
       pending = std::move(done.scan);
       const bool surprise = !done.leg.event.empty() && done.leg.event != "touch-down";
+      const bool drifted = diverged(current.plan.after);
       // A small divergence only needs the interlocks rechecked on the real
       // stance; a surprise or a failed recheck needs a new plan.
       std::optional<gait::StepPlan> kept;
-      if (!surprise && next.plan.ok && diverged(current.plan.after))
+      if (!surprise && drifted && next.plan.ok)
         kept = gait::reanchorStep(next.plan, next.from, estimate_, opt_.heading, cfg_.gait);
       if (kept) {
         next.plan = std::move(*kept);
         next.from = estimate_;
         ++result_.rechecked;
-      } else if (surprise || diverged(current.plan.after)) {
+      } else if (surprise || drifted) {
         integrate(*pending);
         pending.reset();
         next = plan(estimate_);
@@ -281,9 +282,7 @@ WalkResult Walker::run() {
     } else {
       Executed done = execute(current, k + 1);
       update(current, done);
-      if (!last) {
-        if (pending) integrate(*pending);
-        pending.reset();
+      if (!last) {  // (only concurrent walks leave a scan pending)
         done.scan.sensor_to_world = mountPose(estimate_.body);
         integrate(done.scan);
         next = plan(estimate_);
