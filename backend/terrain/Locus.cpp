@@ -87,9 +87,29 @@ struct CellResult {
   CellState state = CellState::kUnknown;
   double z = 0.0;
   double sigma = 0.0;
-  // The slope of Delta across the bracket is not significant against the
-  // noise: the crossing may be one of several.
-  bool ill_conditioned = false;
+  double noise_sigma = 0.0;  // the part of sigma from the range noise [m]
+  // The slope of Delta across the bracket is significant against the noise.
+  bool significant = false;
+  // Delta stays within the noise beyond the bracket, or its slope is not
+  // significant: the crossing may be one of several.
+  bool ambiguous = false;
+  // The scanlines just above and below the bracket, where sampled.
+  RowSample above{}, below{};
+};
+
+// Std. dev. of the height from the range noise, the significance of the
+// slope of Delta, and the scanlines around the bracket it looked at.
+struct HeightNoise {
+  double sigma = INFINITY;
+  bool significant = false;
+  bool ambiguous = false;
+  RowSample above{}, below{};
+};
+
+// The heights of the line over which Delta is within the noise of zero.
+struct Band {
+  double top = -INFINITY, bottom = INFINITY;
+  double height() const { return top > bottom ? top - bottom : 0.0; }
 };
 
 // Over the image's columns and half a pixel beyond.
@@ -128,12 +148,13 @@ class LocusSolver {
   CellResult refine(const Line& line, const Bracket& br) const;
   CellResult finish(const Line& line, const Bracket& br, double t, double u, double col,
                     int quad_col) const;
-  double raiseToHighestCrossing(const Line& line, int down, Bracket& br) const;
+  Band followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
+                  const RowSample& below) const;
   double rangeAt(int upper, int lower, double u, double col, int& quad_col) const;
   double noiseOfRange(int upper, int lower, double u, double col) const;
   double imageRangeOnRow(int row, double col) const;
-  double sigmaOfHeight(const Line& line, const Bracket& br, double u, double col, int quad_col,
-                       bool& ill_conditioned) const;
+  HeightNoise sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
+                            int quad_col) const;
   double samplingSigma(int quad_row, int quad_col) const;
   bool isSteepFace(int quad_row, int quad_col) const;
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
@@ -246,15 +267,20 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   const auto found = walk(line, down, startRow(line, z_guess), bracket);
   if (found != CellState::kKnown) return {found};
   auto result = refine(line, bracket);
-  if (!result.ill_conditioned) return result;
-  // A line running beside a vertical face changes Delta by less than the
-  // noise from one scanline to the next, so Delta may change sign many
-  // times along it. The terrain is where the line first meets the surface
-  // from above; the spread of the crossings widens sigma.
-  const double spread = raiseToHighestCrossing(line, down, bracket);
-  result = refine(line, bracket);
-  if (result.state == CellState::kKnown)
-    result.sigma = std::sqrt(result.sigma * result.sigma + spread * spread / 12);
+  if (result.state != CellState::kKnown || !result.ambiguous) return result;
+  // A line running beside a vertical face stays within the noise of the
+  // surface over a long stretch, so Delta may change sign anywhere along it:
+  // the surface may be at either end (the face's foot or its top). Noise
+  // alone explains a band of about 6 sigma around a crossing with a
+  // significant slope; beyond that, the cell's height is the band's middle,
+  // give or take half the band.
+  const Band band = followBand(line, down, bracket, result.above, result.below);
+  const double explained = result.significant ? 6 * result.noise_sigma : 0.0;
+  const double excess = band.height() - explained;
+  if (excess > 0) {
+    result.z = 0.5 * (band.top + band.bottom);
+    result.sigma = std::hypot(result.sigma, excess / std::sqrt(12.0));
+  }
   return result;
 }
 
@@ -384,10 +410,16 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow};
   if (isSteepFace(quad_row, quad_col)) return {CellState::kUnknown};
-  bool ill_conditioned = false;
-  const double noise = sigmaOfHeight(line, br, u, col, quad_col, ill_conditioned);
+  const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
-  return {CellState::kKnown, t, std::sqrt(noise * noise + sampling * sampling), ill_conditioned};
+  return {CellState::kKnown,
+          t,
+          std::hypot(noise.sigma, sampling),
+          noise.sigma,
+          noise.significant,
+          noise.ambiguous,
+          noise.above,
+          noise.below};
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
@@ -436,26 +468,23 @@ double LocusSolver::imageRangeOnRow(int row, double col) const {
 // a least-squares slope over up to four scanlines, which damps the noise of
 // a two-point difference; an outer scanline across an occluding edge is
 // left out of the slope.
-double LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
-                                  int quad_col, bool& ill_conditioned) const {
+HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
+                                       int quad_col) const {
   const int step = br.lower.row - br.upper.row;
   std::array<bool, 4> ok{};
+  HeightNoise result;
+  std::array<RowSample, 4> samples{};
+  samples[1] = br.upper, samples[2] = br.lower;
+  if (br.upper.row - step >= 0 && br.upper.row - step < g_.rows)
+    samples[0] = result.above = sampleRow(line, br.upper.row - step);
+  if (br.lower.row + step >= 0 && br.lower.row + step < g_.rows)
+    samples[3] = result.below = sampleRow(line, br.lower.row + step);
   std::array<double, 4> delta{}, range{};
   for (int i = 0; i < 4; ++i) {
-    const int row = br.upper.row + (i - 1) * step;
-    if (row < 0 || row >= g_.rows) continue;
-    if (i == 1 || i == 2) {
-      const RowSample& s = i == 1 ? br.upper : br.lower;
-      ok[i] = true, delta[i] = s.delta, range[i] = s.at.rho - s.delta;
-      continue;
-    }
-    const LocusPoint lp = pointAt(line, row);
-    if (!lp.on_image) continue;
-    range[i] = imageRangeOnRow(row, lp.col);
-    ok[i] = std::isfinite(range[i]);
-    delta[i] = lp.rho - range[i];
+    ok[i] = samples[i].ok;
+    delta[i] = samples[i].delta, range[i] = samples[i].at.rho - samples[i].delta;
   }
-  if (!ok[1] || !ok[2]) return INFINITY;
+  if (!ok[1] || !ok[2]) return result;
   if (ok[0] && edges_.quadIsEdge(std::min(br.upper.row, br.upper.row - step), quad_col))
     ok[0] = false;
   if (ok[3] && edges_.quadIsEdge(std::min(br.lower.row, br.lower.row + step), quad_col))
@@ -469,16 +498,20 @@ double LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u,
   }
   const double spread_k = n * sum_kk - sum_k * sum_k;
   const double slope = (n * sum_kd - sum_k * sum_d) / spread_k;
-  if (slope == 0.0) return INFINITY;
+  if (slope == 0.0) return result;
   // Standard error of the slope from the pixels' noise alone.
   const double noise = sensor::rangeSigma(br.upper.at.rho, image_.range_sigma_k);
-  ill_conditioned = std::abs(slope) < 3 * noise * std::sqrt(n / spread_k);
+  const bool insignificant = std::abs(slope) < 3 * noise * std::sqrt(n / spread_k);
+  const bool band_continues = (ok[0] && delta[0] > -3 * noise) || (ok[3] && delta[3] < 3 * noise);
   double curvature = 0.0;
   if (ok[0]) curvature = std::abs(range[0] - 2 * range[1] + range[2]);
   if (ok[3]) curvature = std::max(curvature, std::abs(range[1] - 2 * range[2] + range[3]));
   const double noise_sigma = noiseOfRange(br.upper.row, br.lower.row, u, col);
   const double range_sigma = std::sqrt(noise_sigma * noise_sigma + curvature * curvature / 64);
-  return std::abs((br.lower.at.t - br.upper.at.t) / slope) * range_sigma;
+  result.sigma = std::abs((br.lower.at.t - br.upper.at.t) / slope) * range_sigma;
+  result.significant = !insignificant;
+  result.ambiguous = insignificant || band_continues;
+  return result;
 }
 
 // Sampling: the image only knows the surface at its pixels, so a cell's
@@ -521,29 +554,41 @@ bool LocusSolver::isSteepFace(int quad_row, int quad_col) const {
   return std::abs(n.z()) < kSteepFaceCos * n.norm();
 }
 
-// Follows the line around the bracket over the stretch where |Delta| is
-// within 3 sigma of the range noise, the stretch that may hold the surface.
-// Moves the bracket to the highest crossing in it and returns the
-// stretch's height [m].
-double LocusSolver::raiseToHighestCrossing(const Line& line, int down, Bracket& br) const {
+// Follows the line up and down from the bracket over the scanlines where
+// |Delta| is within 3 sigma of the range noise, the stretch that may hold
+// the surface.
+Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
+                             const RowSample& below) const {
+  auto sampleAt = [&](int row) {
+    if (above.ok && row == above.row) return above;
+    if (below.ok && row == below.row) return below;
+    return sampleRow(line, row);
+  };
   auto noise = [&](const RowSample& s) {
     return 3 * sensor::rangeSigma(s.at.rho, image_.range_sigma_k);
   };
+  Band band;
+  auto note = [&](const RowSample& x) {
+    if (std::abs(x.delta) < noise(x))
+      band.top = std::max(band.top, x.at.t), band.bottom = std::min(band.bottom, x.at.t);
+  };
   RowSample s = br.lower;
+  note(s);
   for (int next = s.row + down; next >= 0 && next < g_.rows && s.delta < noise(s); next += down) {
-    const RowSample n = sampleRow(line, next);
+    const RowSample n = sampleAt(next);
     if (!n.ok) break;
     s = n;
+    note(s);
   }
-  const double bottom = s.at.t;
   s = br.upper;
+  note(s);
   for (int next = s.row - down; next >= 0 && next < g_.rows && s.delta > -noise(s); next -= down) {
-    const RowSample n = sampleRow(line, next);
+    const RowSample n = sampleAt(next);
     if (!n.ok) break;
-    if (n.delta < 0 && s.delta >= 0) br = {n, s};
     s = n;
+    note(s);
   }
-  return s.at.t - bottom;
+  return band;
 }
 
 }  // namespace

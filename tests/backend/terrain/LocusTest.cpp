@@ -128,5 +128,33 @@ TEST(Locus, SigmaMatchesTheObservedErrorOnNoisyFlatGround) {
   EXPECT_NEAR(std::sqrt(sum / n), 1.0, 0.2);
 }
 
+// Vertical lines a centimetre or two either side of a box's front face run
+// within the range noise of the face: the crossing found may be anywhere
+// on it, and sigma must say so. Without that, the error is the box's height
+// against a sigma of millimetres.
+TEST(Locus, CellsBesideAFaceHaveASigmaThatCoversTheirError) {
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::BoxObstacle{{0.0, 9.5, 0.0, 1.0, 0.5}, 1.0});  // face at y = 9
+  const sim::ProceduralTerrain ground(d);
+  const sim::RayCaster caster(ground);
+  const auto m = scanner(2e-4);
+  const GridSpec grid = GridSpec::covering({-0.5, 8.97, 0.5, 9.03}, 0.01);
+  int known = 0, outliers = 0;
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), seed);
+    const auto map = buildLocusMap(image, grid);
+    for (int r = 0; r < grid.rows; ++r)
+      for (int c = 0; c < grid.cols; ++c) {
+        if (!map.isKnown(r, c)) continue;
+        const auto p = grid.cellCenter(r, c);
+        const double error = map.elevation(r, c) - ground.height(p.x(), p.y());
+        ++known, outliers += std::abs(error) > 4 * map.sigma(r, c);
+      }
+  }
+  ASSERT_GT(known, 500);
+  EXPECT_LT(outliers, known / 100) << outliers << " of " << known;
+}
+
 }  // namespace
 }  // namespace ambler::terrain
