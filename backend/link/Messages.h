@@ -1,0 +1,102 @@
+#pragma once
+
+// The messages between a ground station and a rover (or the simulator):
+// telemetry from the rover, commands from the ground. Plain structs; the
+// codec (Codec.h) gives them one byte form for signing, logging and the wire.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "gait/RoverModel.h"
+#include "sensor/RangeImage.h"
+
+namespace ambler::link {
+
+// ---- telemetry (rover -> ground) ----
+
+struct Heartbeat {
+  std::uint64_t count = 0;
+};
+
+// One leg as its encoders and force sensor report it.
+struct LegState {
+  int leg = 0;
+  gait::LegJoints joints;
+  bool contact = false;
+};
+
+// The body's pose in the world as the rover believes it (dead reckoning).
+struct BodyState {
+  double x_m = 0.0, y_m = 0.0, z_m = 0.0;
+  double heading_rad = 0.0;
+  bool moving = false;
+};
+
+// The rover's answer to one command: accepted, or refused and why.
+struct CommandAck {
+  std::string operator_id;
+  std::uint64_t sequence = 0;
+  bool accepted = false;
+  std::string reason;  // empty when accepted
+};
+
+using TelemetryBody = std::variant<Heartbeat, LegState, BodyState, CommandAck, sensor::RangeImage>;
+
+struct Telemetry {
+  std::uint32_t rover_id = 0;
+  double time_s = 0.0;  // rover clock
+  TelemetryBody body;
+};
+
+// ---- commands (ground -> rover) ----
+
+// cmu-1990 'Real-time control': joint waypoints, all joints arriving together.
+struct LegMove {
+  int leg = 0;
+  std::vector<gait::LegJoints> waypoints;
+};
+
+// Translation in the body frame and rotation about the vertical; the link
+// plane rises by raise_m on the way.
+struct BodyMove {
+  double x_m = 0.0, y_m = 0.0;
+  double rotation_rad = 0.0;
+  double raise_m = 0.0;
+};
+
+// Clam-shell grasp: centre in the world, jaws along `yaw_rad`.
+struct Grasp {
+  double x_m = 0.0, y_m = 0.0, z_m = 0.0;
+  double yaw_rad = 0.0;
+  double opening_m = 0.0;
+};
+
+struct AcquireScan {};
+
+// Stop every motion now and stay still.
+struct Hold {};
+
+using CommandBody = std::variant<LegMove, BodyMove, Grasp, AcquireScan, Hold>;
+
+using Hmac = std::array<std::uint8_t, 32>;
+
+// A command with its provenance: which console's operator sent it, in
+// which order, signed over everything else (Signing.h).
+struct Command {
+  std::uint32_t rover_id = 0;
+  std::string operator_id;
+  std::uint64_t sequence = 0;
+  double time_s = 0.0;  // ground clock when signed
+  CommandBody body;
+  std::optional<Hmac> hmac;  // none: unsigned
+};
+
+// Names as they appear in logs and summaries: "LegMove", "Heartbeat", ...
+std::string typeName(const TelemetryBody& body);
+std::string typeName(const CommandBody& body);
+
+}  // namespace ambler::link

@@ -1,0 +1,98 @@
+#include "link/Signing.h"
+
+#include <openssl/crypto.h>
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
+
+#include "io/Json.h"
+#include "link/Codec.h"
+
+namespace ambler::link {
+
+namespace {
+
+std::vector<std::uint8_t> keyFromHex(const io::JsonFields& fields) {
+  const std::string hex = fields.string("key_hex");
+  if (hex.size() % 2 != 0) fields.fail("key_hex", "has an odd number of hex digits");
+  std::vector<std::uint8_t> key;
+  for (std::size_t i = 0; i < hex.size(); i += 2) {
+    const std::string pair = hex.substr(i, 2);
+    if (pair.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
+      fields.fail("key_hex",
+                  "is not hexadecimal (\"" + pair + "\" at digit " + std::to_string(i) + ")");
+    key.push_back(std::uint8_t(std::stoi(pair, nullptr, 16)));
+  }
+  if (key.size() < kMinKeyBytes)
+    fields.fail("key_hex", "is " + std::to_string(key.size()) + " bytes; at least " +
+                               std::to_string(kMinKeyBytes) + " are needed");
+  return key;
+}
+
+OperatorKey keyFrom(const io::JsonFields& fields) {
+  OperatorKey k{fields.string("operator"), keyFromHex(fields)};
+  if (k.operator_id.empty()) fields.fail("operator", "is empty");
+  return k;
+}
+
+}  // namespace
+
+OperatorKey readOperatorKey(const std::filesystem::path& path) {
+  const auto json = io::readJsonFile(path);
+  return keyFrom(io::JsonFields(json, path.string()));
+}
+
+std::vector<OperatorKey> readOperatorKeys(const std::filesystem::path& path) {
+  const auto json = io::readJsonFile(path);
+  const io::JsonFields top(json, path.string());
+  if (!top.has("operators") || !json["operators"].is_array())
+    top.fail("operators", "must be a list of {operator, key_hex}");
+  std::vector<OperatorKey> keys;
+  for (std::size_t i = 0; i < json["operators"].size(); ++i)
+    keys.push_back(keyFrom(io::JsonFields(
+        json["operators"][i], path.string() + ": operators[" + std::to_string(i) + "]")));
+  return keys;
+}
+
+Hmac hmacSha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t> data) {
+  Hmac out{};
+  unsigned int length = 0;
+  HMAC(EVP_sha256(), key.data(), int(key.size()), data.data(), data.size(), out.data(), &length);
+  return out;
+}
+
+CommandSigner::CommandSigner(OperatorKey key, std::uint64_t next_sequence)
+    : key_(std::move(key)), next_sequence_(next_sequence) {}
+
+void CommandSigner::sign(Command& command) {
+  command.operator_id = key_.operator_id;
+  command.sequence = next_sequence_++;
+  command.hmac = hmacSha256(key_.key, signedContent(command));
+}
+
+CommandVerifier::CommandVerifier(std::uint32_t rover_id, const std::vector<OperatorKey>& keys)
+    : rover_id_(rover_id) {
+  for (const auto& k : keys) keys_[k.operator_id] = k.key;
+}
+
+std::string CommandVerifier::check(const Command& c) {
+  if (c.rover_id != rover_id_)
+    return "addressed to rover " + std::to_string(c.rover_id) + ", this is rover " +
+           std::to_string(rover_id_);
+  if (!c.hmac) return "unsigned command";
+  const auto key = keys_.find(c.operator_id);
+  if (key == keys_.end()) return "unknown operator \"" + c.operator_id + "\"";
+  const Hmac expected = hmacSha256(key->second, signedContent(c));
+  if (CRYPTO_memcmp(expected.data(), c.hmac->data(), expected.size()) != 0)
+    return "bad signature for operator \"" + c.operator_id + "\"";
+  if (c.sequence == 0) return "sequence 0 (sequences start at 1)";
+  auto& last = last_sequence_[c.operator_id];
+  if (c.sequence == last)
+    return "replayed command: sequence " + std::to_string(c.sequence) + " already accepted";
+  if (c.sequence < last)
+    return "out of order: sequence " + std::to_string(c.sequence) + " after " +
+           std::to_string(last);
+  last = c.sequence;
+  return {};
+}
+
+}  // namespace ambler::link

@@ -1,0 +1,119 @@
+#include "link/Signing.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "io/FormatError.h"
+#include "link/Codec.h"
+
+namespace ambler::link {
+namespace {
+
+OperatorKey key(const std::string& id, std::uint8_t fill) {
+  return {id, std::vector<std::uint8_t>(32, fill)};
+}
+
+Command bodyMove(std::uint32_t rover = 1) {
+  Command c;
+  c.rover_id = rover;
+  c.time_s = 10.0;
+  c.body = BodyMove{0.0, 0.5, 0.0, 0.0};
+  return c;
+}
+
+// RFC 4231 test case 2: key "Jefe", data "what do ya want for nothing?".
+TEST(Signing, HmacSha256MatchesRfc4231) {
+  const std::string k = "Jefe", d = "what do ya want for nothing?";
+  const Hmac mac = hmacSha256({reinterpret_cast<const std::uint8_t*>(k.data()), k.size()},
+                              {reinterpret_cast<const std::uint8_t*>(d.data()), d.size()});
+  const std::uint8_t expected[32] = {0x5b, 0xdc, 0xc1, 0x46, 0xbf, 0x60, 0x75, 0x4e,
+                                     0x6a, 0x04, 0x24, 0x26, 0x08, 0x95, 0x75, 0xc7,
+                                     0x5a, 0x00, 0x3f, 0x08, 0x9d, 0x27, 0x39, 0x83,
+                                     0x9d, 0xec, 0x58, 0xb9, 0x64, 0xec, 0x38, 0x43};
+  EXPECT_TRUE(std::equal(mac.begin(), mac.end(), expected));
+}
+
+TEST(Signing, ASignedCommandIsAcceptedOnceAndInOrder) {
+  CommandSigner alice(key("alice", 1));
+  CommandVerifier rover(1, {key("alice", 1), key("bob", 2)});
+  Command first = bodyMove(), second = bodyMove();
+  alice.sign(first);
+  alice.sign(second);
+  EXPECT_EQ(first.sequence, 1u);
+  EXPECT_EQ(second.sequence, 2u);
+  EXPECT_EQ(rover.check(first), "");
+  // Through the wire form as well.
+  EXPECT_EQ(rover.check(decodeCommand(encode(second))), "");
+  EXPECT_NE(rover.check(second).find("replayed command: sequence 2"), std::string::npos);
+  EXPECT_NE(rover.check(first).find("out of order: sequence 1 after 2"), std::string::npos);
+}
+
+TEST(Signing, EveryKindOfBadCommandIsRefusedWithItsReason) {
+  CommandVerifier rover(1, {key("alice", 1)});
+  Command c = bodyMove();
+  EXPECT_EQ(rover.check(c), "unsigned command");
+
+  CommandSigner mallory(key("mallory", 9));
+  mallory.sign(c);
+  EXPECT_EQ(rover.check(c), "unknown operator \"mallory\"");
+
+  CommandSigner forged(key("alice", 9));  // alice's name, the wrong key
+  c = bodyMove();
+  forged.sign(c);
+  EXPECT_EQ(rover.check(c), "bad signature for operator \"alice\"");
+
+  CommandSigner alice(key("alice", 1));
+  c = bodyMove();
+  alice.sign(c);
+  std::get<BodyMove>(c.body).y_m = 3.0;  // tampered with after signing
+  EXPECT_EQ(rover.check(c), "bad signature for operator \"alice\"");
+
+  c = bodyMove(2);
+  alice.sign(c);
+  EXPECT_EQ(rover.check(c), "addressed to rover 2, this is rover 1");
+
+  CommandSigner zero(key("alice", 1), 0);
+  c = bodyMove();
+  zero.sign(c);
+  EXPECT_EQ(rover.check(c), "sequence 0 (sequences start at 1)");
+}
+
+TEST(Signing, KeyFilesAreReadAndBadOnesNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "ambler_signing_test";
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  };
+  const auto good = write(
+      "alice.json", R"({"operator": "alice", "key_hex": "000102030405060708090a0b0c0d0e0f10"})");
+  const OperatorKey k = readOperatorKey(good);
+  EXPECT_EQ(k.operator_id, "alice");
+  ASSERT_EQ(k.key.size(), 17u);
+  EXPECT_EQ(k.key[16], 0x10);
+  const auto keys = write("keys.json", R"({"operators": [
+      {"operator": "alice", "key_hex": "000102030405060708090a0b0c0d0e0f"},
+      {"operator": "bob", "key_hex": "ffeeddccbbaa99887766554433221100"}]})");
+  EXPECT_EQ(readOperatorKeys(keys).size(), 2u);
+
+  auto expectProblem = [&](const std::string& text, const std::string& words) {
+    const auto path = write("bad.json", text);
+    try {
+      readOperatorKey(path);
+      FAIL() << text;
+    } catch (const io::FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    }
+  };
+  expectProblem(R"({"operator": "a", "key_hex": "0011"})", "at least 16 are needed");
+  expectProblem(R"({"operator": "a", "key_hex": "001"})", "odd number");
+  expectProblem(R"({"operator": "a", "key_hex": "zz0102030405060708090a0b0c0d0e0f"})",
+                "not hexadecimal");
+  expectProblem(R"({"key_hex": "000102030405060708090a0b0c0d0e0f"})", "operator");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ambler::link
