@@ -8,7 +8,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
-      "inspection)"};
+      "inspection, mission logs)"};
   app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   ambler::cli::addEval(app);
   ambler::cli::addFootfall(app);
   ambler::cli::addWalk(app);
+  ambler::cli::addLog(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

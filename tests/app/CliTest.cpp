@@ -9,6 +9,7 @@
 
 #include "TempDir.h"
 #include "io/Tiff.h"
+#include "missionlog/MissionLog.h"
 #include "sensor/RangeImageFile.h"
 
 namespace {
@@ -248,6 +249,35 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
   EXPECT_NE(bad.out.find("csp_margin_m"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("rover.json"), std::string::npos) << bad.out;
   EXPECT_NE(runCli("walk --radius 5 --turn left").exit_code, 0);  // one or the other
+}
+
+TEST(Cli, LogSummaryCountsMessagesAndDecisions) {
+  TempDir dir;
+  const auto path = dir / "mission.sqlite";
+  {
+    ambler::missionlog::MissionLog log(path, "summary test");
+    for (int i = 0; i < 3; ++i)
+      log.record(100.0 + i, ambler::link::Telemetry{1, 0.0, ambler::link::Heartbeat{}});
+    ambler::link::Command c;
+    c.operator_id = "alice", c.sequence = 1, c.body = ambler::link::Hold{};
+    log.record(101.5, c);
+    log.record({102.5, "alice", 1, ambler::missionlog::Verdict::kApproved, ""});
+    log.record({103.5, "alice", 2, ambler::missionlog::Verdict::kRejected, "in shadow"});
+  }
+  const auto run = runCli("log summary " + path.string() + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["mission"], "summary test");
+  EXPECT_EQ(summary["messages"], 4);
+  EXPECT_EQ(summary["from_rover"]["Heartbeat"], 3);
+  EXPECT_EQ(summary["to_rover"]["Hold"], 1);
+  EXPECT_DOUBLE_EQ(summary["duration_s"].get<double>(), 3.5);
+  EXPECT_EQ(summary["steps_approved"], 1);
+  EXPECT_EQ(summary["steps_rejected"], 1);
+
+  const auto bad = runCli("log summary " + (dir / "none.sqlite").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("none.sqlite: no such file"), std::string::npos) << bad.out;
 }
 
 }  // namespace

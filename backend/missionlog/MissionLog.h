@@ -1,0 +1,111 @@
+#pragma once
+
+// The durable record of a mission: every message in and out, every
+// proposal the operator decided on, and the products (maps, fits) or the
+// parameters that recompute them. One SQLite file per mission in WAL mode;
+// each record is its own transaction, synchronous=FULL, so a record is on
+// disk when the call returns and survives kill -9 of the ground station.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "link/Codec.h"
+
+struct sqlite3;
+
+namespace ambler::missionlog {
+
+// A log that cannot be opened, read or written; names the file.
+class LogError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class Direction { kFromRover, kToRover };
+
+enum class Verdict { kApproved, kRejected, kEdited };
+
+// What the operator did with one proposed move.
+struct Decision {
+  double time_s = 0.0;
+  std::string operator_id;
+  std::uint64_t proposal = 0;
+  Verdict verdict = Verdict::kApproved;
+  std::string detail;  // what was proposed or edited, free text or JSON
+};
+
+struct LoggedMessage {
+  std::int64_t id = 0;
+  double time_s = 0.0;  // ground clock when it was sent or received
+  Direction direction = Direction::kFromRover;
+  std::string type;  // link::typeName
+  link::Bytes payload;
+};
+
+struct Summary {
+  std::string mission;
+  std::map<std::string, long> from_rover, to_rover;  // message counts by type
+  long messages = 0;
+  double first_s = 0.0, last_s = 0.0;  // over messages and decisions
+  long approved = 0, rejected = 0, edited = 0;
+  long products = 0;
+  double durationS() const { return last_s - first_s; }
+};
+
+// Owns one SQLite connection; move-only.
+class Database {
+ public:
+  Database(const std::filesystem::path& path, bool writable);
+  Database(Database&& other) noexcept;
+  Database& operator=(Database&&) = delete;
+  ~Database();
+  sqlite3* handle() const { return db_; }
+  const std::filesystem::path& path() const { return path_; }
+  void exec(const std::string& sql) const;
+  [[noreturn]] void fail(const std::string& what) const;
+
+ private:
+  std::filesystem::path path_;
+  sqlite3* db_ = nullptr;
+};
+
+class MissionLog {
+ public:
+  // Creates the log, or opens an existing one to append to it.
+  MissionLog(const std::filesystem::path& path, const std::string& mission);
+
+  void record(double time_s, const link::Telemetry& message);
+  void record(double time_s, const link::Command& command);
+  void record(const Decision& decision);
+  void recordProduct(double time_s, const std::string& kind, const std::string& parameters_json,
+                     const link::Bytes& data = {});
+
+ private:
+  void insertMessage(double time_s, Direction direction, const std::string& type,
+                     std::uint32_t rover_id, const std::string& operator_id, std::int64_t sequence,
+                     const link::Bytes& payload);
+  Database db_;
+};
+
+// Read-only access for replay and summaries; another process may still be
+// writing the log.
+class MissionLogReader {
+ public:
+  explicit MissionLogReader(const std::filesystem::path& path);
+
+  Summary summary() const;
+  // Messages with from_s <= time_s < to_s, in time order.
+  std::vector<LoggedMessage> messages(double from_s, double to_s) const;
+  std::vector<Decision> decisions() const;
+
+ private:
+  Database db_;
+};
+
+std::string verdictName(Verdict verdict);
+
+}  // namespace ambler::missionlog
