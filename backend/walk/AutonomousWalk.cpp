@@ -9,9 +9,7 @@
 #include "footfall/FootfallConfig.h"
 #include "gait/DeadReckoning.h"
 #include "gait/RoverConfig.h"
-#include "sim/HeightfieldTerrain.h"
-#include "sim/ObstacleCourse.h"
-#include "sim/RayCaster.h"
+#include "sim/RoverWorld.h"
 #include "terrain/Locus.h"
 #include "terrain/Merge.h"
 
@@ -55,40 +53,19 @@ struct Executed {
   sensor::RangeImage scan;  // from where the step ended, still in the true pose
 };
 
-// The scanner's view of the course: the exact terrain sampled every 2 cm
-// over the walk's map (plus the scanner's reach) and interpolated, so a
-// simulated scan costs the rover little next to the ground station's work
-// (the rover's own feet still meet the exact terrain).
-sim::HeightfieldTerrain sampledCourse(const sim::Terrain& terrain, const Box2& map_extent) {
-  const Box2 area{map_extent.x_min - 5, map_extent.y_min - 5, map_extent.x_max + 5,
-                  map_extent.y_max + 12};
-  const GridSpec grid = GridSpec::covering(area, 0.02);
-  return sim::HeightfieldTerrain(sim::sampleHeights(terrain, grid), grid);
-}
-
 class Walker {
  public:
   Walker(const WalkConfig& config, const WalkOptions& options)
       : cfg_(config),
         opt_(options),
-        terrain_(sim::makeObstacleCourse({.seed = options.seed})),
-        seen_(sampledCourse(terrain_, options.map_extent)),
-        caster_(seen_, {.cell_size = 0.25, .step = 0.1, .tolerance = 1e-3}),
+        world_(options.seed, config.gait.model, config.gait.gait, config.noise, config.scanner,
+               options.map_extent),
         map_(GridSpec::covering(options.map_extent, options.map_resolution_m)),
-        rover_(terrain_, config.gait.model, noiseFor(config.noise, options.seed),
-               sim::settleOnTerrain(gait::nominalStance({}, config.gait.model, config.gait.gait),
-                                    terrain_, config.gait.model)),
-        estimate_(rover_.truth()) {}
+        estimate_(world_.rover().truth()) {}
 
   WalkResult run();
 
  private:
-  static sim::ExecutionNoise noiseFor(sim::ExecutionNoise n, std::uint64_t seed) {
-    n.seed = n.seed * 1000003 + seed;
-    return n;
-  }
-  sensor::RangeImage scanFromTruth(int index) const;
-  Eigen::Isometry3d mountPose(const gait::BodyPose& body) const;
   void integrate(const sensor::RangeImage& image);
   Planned plan(const gait::Stance& from);
   Executed execute(const Planned& p, int scan_index);
@@ -97,27 +74,11 @@ class Walker {
 
   const WalkConfig& cfg_;
   const WalkOptions& opt_;
-  sim::ProceduralTerrain terrain_;
-  sim::HeightfieldTerrain seen_;  // what the scanner's rays meet
-  sim::RayCaster caster_;
+  sim::RoverWorld world_;
   terrain::ElevationMap map_;
-  sim::RoverSim rover_;
   gait::Stance estimate_;
   WalkResult result_;
 };
-
-// The scanner's work, done while the rover stands still: a range image
-// from where the rover really is. Whoever maps it tags it with where the
-// rover believes it is.
-sensor::RangeImage Walker::scanFromTruth(int index) const {
-  return sim::simulateScan(caster_, cfg_.scanner, mountPose(rover_.truth().body),
-                           opt_.seed * 1000 + std::uint64_t(index));
-}
-
-Eigen::Isometry3d Walker::mountPose(const gait::BodyPose& b) const {
-  const double ground_z = b.link_z - cfg_.gait.model.link_plane_nominal_m;
-  return cfg_.scanner.mountPose({b.xy.x(), b.xy.y(), ground_z}, b.heading_rad);
-}
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the window
 // of the local terrain map it can cover, fused into that map.
@@ -158,19 +119,19 @@ Planned Walker::plan(const gait::Stance& from) {
 Executed Walker::execute(const Planned& p, int scan_index) {
   const auto t0 = Clock::now();
   Executed e;
-  if (p.plan.leg >= 0) e.leg = rover_.executeLeg({p.plan.leg, p.plan.recovery.waypoints});
-  e.after_leg = rover_.legStates();
-  e.true_before_body = e.true_after_body = rover_.truth().body.xy;
+  if (p.plan.leg >= 0) e.leg = world_.rover().executeLeg({p.plan.leg, p.plan.recovery.waypoints});
+  e.after_leg = world_.rover().legStates();
+  e.true_before_body = e.true_after_body = world_.rover().truth().body.xy;
   e.after_body = e.after_leg;
   if (e.leg.completed) {  // else the executive replans before moving the body
     const gait::BodyPose& a = p.plan.after_leg.body;
     const gait::BodyPose& b = p.plan.after.body;
-    e.body = rover_.executeBody(
+    e.body = world_.rover().executeBody(
         {a.toBody(b.xy), b.heading_rad - a.heading_rad, b.link_z - p.from.body.link_z});
-    e.true_after_body = rover_.truth().body.xy;
-    e.after_body = rover_.legStates();
+    e.true_after_body = world_.rover().truth().body.xy;
+    e.after_body = world_.rover().legStates();
   }
-  e.scan = scanFromTruth(scan_index);
+  e.scan = world_.scan(scan_index);
   const double modelled = e.leg.duration_s + e.body.duration_s + kScanFrameS;
   if (opt_.time_scale > 0)
     std::this_thread::sleep_until(t0 +
@@ -228,9 +189,9 @@ bool Walker::diverged(const gait::Stance& predicted) const {
 }
 
 WalkResult Walker::run() {
-  const Eigen::Vector2d start = rover_.truth().body.xy;
-  sensor::RangeImage first = scanFromTruth(0);
-  first.sensor_to_world = mountPose(estimate_.body);
+  const Eigen::Vector2d start = world_.rover().truth().body.xy;
+  sensor::RangeImage first = world_.scan(0);
+  first.sensor_to_world = world_.mountPose(estimate_.body);
   integrate(first);
   Planned next = plan(estimate_);
   // The walk's wall time runs from the first command sent (set-up and the
@@ -259,7 +220,7 @@ WalkResult Walker::run() {
       next = plan(current.plan.after);
       Executed done = running.get();
       update(current, done);
-      done.scan.sensor_to_world = mountPose(estimate_.body);
+      done.scan.sensor_to_world = world_.mountPose(estimate_.body);
       pending = std::move(done.scan);
       const bool surprise = !done.leg.event.empty() && done.leg.event != "touch-down";
       const bool drifted = diverged(current.plan.after);
@@ -283,7 +244,7 @@ WalkResult Walker::run() {
       Executed done = execute(current, k + 1);
       update(current, done);
       if (!last) {  // (only concurrent walks leave a scan pending)
-        done.scan.sensor_to_world = mountPose(estimate_.body);
+        done.scan.sensor_to_world = world_.mountPose(estimate_.body);
         integrate(done.scan);
         next = plan(estimate_);
       }
@@ -295,11 +256,12 @@ WalkResult Walker::run() {
     std::nth_element(ms.begin(), ms.begin() + long(ms.size() / 2), ms.end());
     result_.plan_ms_median = ms[ms.size() / 2];
   }
-  result_.distance_m = (rover_.truth().body.xy - start).norm();
-  result_.heading_change_deg = rover_.truth().body.heading_rad * 180.0 / M_PI;  // started at 0
-  result_.dead_reckoning_drift_m = (rover_.truth().body.xy - estimate_.body.xy).norm();
-  result_.slips = rover_.slips();
-  result_.trace = rover_.trace();
+  result_.distance_m = (world_.rover().truth().body.xy - start).norm();
+  result_.heading_change_deg =
+      world_.rover().truth().body.heading_rad * 180.0 / M_PI;  // started at 0
+  result_.dead_reckoning_drift_m = (world_.rover().truth().body.xy - estimate_.body.xy).norm();
+  result_.slips = world_.rover().slips();
+  result_.trace = world_.rover().trace();
   for (const auto& s : result_.trace) {
     const double margin =
         gait::stabilityMargin(gait::conservativeSupportPolygon(s.feet), s.centre_of_gravity);

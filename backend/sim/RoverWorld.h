@@ -1,0 +1,51 @@
+#pragma once
+
+// The simulated Ambler in its world: the obstacle course of one seed, what
+// its scanner sees of it, and the rover executing moves on it. The
+// autonomous walk and the simulated rover behind a link share it.
+
+#include <cstdint>
+
+#include "core/GridSpec.h"
+#include "gait/GaitPlanner.h"
+#include "sim/HeightfieldTerrain.h"
+#include "sim/ProceduralTerrain.h"
+#include "sim/RayCaster.h"
+#include "sim/RoverSim.h"
+#include "sim/ScannerSim.h"
+
+namespace ambler::sim {
+
+class RoverWorld {
+ public:
+  // The course of `seed`, the rover standing in its nominal stance at the
+  // start; `scanned_area` is where scans need the terrain (the scanner's
+  // reach beyond it is added).
+  RoverWorld(std::uint64_t seed, const gait::RoverModel& model, const gait::GaitOptions& gait,
+             ExecutionNoise noise, ScannerModel scanner, const Box2& scanned_area);
+  RoverWorld(const RoverWorld&) = delete;
+  RoverWorld& operator=(const RoverWorld&) = delete;
+
+  RoverSim& rover() { return rover_; }
+  const RoverSim& rover() const { return rover_; }
+  const Terrain& terrain() const { return terrain_; }
+  const ScannerModel& scanner() const { return scanner_; }
+
+  // A range image from where the rover really is, tagged with that pose;
+  // `index` varies the noise from scan to scan.
+  sensor::RangeImage scan(std::uint64_t index) const;
+  // The scanner's pose for a body pose (the mount is above the ground
+  // under the body).
+  Eigen::Isometry3d mountPose(const gait::BodyPose& body) const;
+
+ private:
+  std::uint64_t seed_;
+  gait::RoverModel model_;
+  ScannerModel scanner_;
+  ProceduralTerrain terrain_;
+  HeightfieldTerrain seen_;  // what the scanner's rays meet
+  RayCaster caster_;
+  RoverSim rover_;
+};
+
+}  // namespace ambler::sim
