@@ -1,0 +1,60 @@
+#include "link/Limits.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace ambler::link {
+
+namespace {
+
+std::string format(double value, int precision = 2) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << std::fixed << value;
+  return s.str();
+}
+
+std::string check(const LegMove& m, const gait::RoverModel& model, const gait::GaitOptions&) {
+  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
+    const auto& q = m.waypoints[i];
+    const std::string where =
+        "leg " + std::to_string(m.leg) + " waypoint " + std::to_string(i + 1) + ": ";
+    if (q.extension_m < model.extension_min_m || q.extension_m > model.extension_max_m)
+      return where + "extension " + format(q.extension_m) + " m outside " +
+             format(model.extension_min_m) + "-" + format(model.extension_max_m) + " m";
+    if (q.vertical_m < model.vertical_min_m || q.vertical_m > model.vertical_max_m)
+      return where + "vertical " + format(q.vertical_m) + " m outside " +
+             format(model.vertical_min_m) + "-" + format(model.vertical_max_m) + " m";
+  }
+  return {};
+}
+
+std::string check(const BodyMove& m, const gait::RoverModel&, const gait::GaitOptions& gait) {
+  const double advance = std::hypot(m.x_m, m.y_m);
+  if (advance > gait.max_body_advance_m + 1e-9)
+    return "body advance " + format(advance) + " m over the " + format(gait.max_body_advance_m) +
+           " m limit";
+  if (std::abs(m.rotation_rad) > gait.max_body_turn_rad + 1e-9)
+    return "body turn " + format(m.rotation_rad * 180 / M_PI, 1) + " deg over the " +
+           format(gait.max_body_turn_rad * 180 / M_PI, 1) + " deg limit";
+  return {};
+}
+
+std::string check(const Grasp& m, const gait::RoverModel&, const gait::GaitOptions&) {
+  if (m.opening_m <= 0) return "grasp opening " + format(m.opening_m) + " m is not positive";
+  return {};
+}
+
+std::string check(const AcquireScan&, const gait::RoverModel&, const gait::GaitOptions&) {
+  return {};
+}
+std::string check(const Hold&, const gait::RoverModel&, const gait::GaitOptions&) { return {}; }
+
+}  // namespace
+
+std::string outsideLimits(const CommandBody& command, const gait::RoverModel& model,
+                          const gait::GaitOptions& gait) {
+  return std::visit([&](const auto& body) { return check(body, model, gait); }, command);
+}
+
+}  // namespace ambler::link

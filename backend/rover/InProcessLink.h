@@ -1,0 +1,43 @@
+#pragma once
+
+// The built-in simulator as a link (QGroundControl's MockLink): the
+// simulated rover runs on its own thread in this process, takes commands
+// from a queue and sends telemetry back, with a heartbeat every period.
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+#include "link/Link.h"
+#include "rover/SimulatedRover.h"
+
+namespace ambler::rover {
+
+class InProcessLink : public link::Link {
+ public:
+  InProcessLink(const walk::WalkConfig& config, SimulatedRoverOptions options,
+                std::chrono::milliseconds heartbeat_period = std::chrono::milliseconds(1000));
+  ~InProcessLink() override;
+
+  void send(const link::Command& command) override;
+  std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override;
+  std::string describe() const override;
+
+ private:
+  void serve();
+  double roverTimeS() const;
+  void publish(std::vector<link::Telemetry> messages);
+
+  SimulatedRover rover_;
+  std::chrono::milliseconds heartbeat_period_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::mutex mutex_;
+  std::condition_variable commands_ready_, telemetry_ready_;
+  std::deque<link::Command> commands_;
+  std::vector<link::Telemetry> telemetry_;
+  bool stopping_ = false;
+  std::thread worker_;  // last: starts once everything above exists
+};
+
+}  // namespace ambler::rover

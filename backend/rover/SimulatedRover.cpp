@@ -1,0 +1,68 @@
+#include "rover/SimulatedRover.h"
+
+#include "link/Limits.h"
+
+namespace ambler::rover {
+
+SimulatedRover::SimulatedRover(const walk::WalkConfig& config, SimulatedRoverOptions options)
+    : config_(config),
+      options_(std::move(options)),
+      world_(options_.seed, config.gait.model, config.gait.gait, config.noise, config.scanner,
+             options_.scanned_area),
+      verifier_(options_.rover_id, options_.operators) {}
+
+link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) const {
+  return {options_.rover_id, now_s, std::move(body)};
+}
+
+link::Telemetry SimulatedRover::heartbeat(double now_s) {
+  return message(now_s, link::Heartbeat{++heartbeats_});
+}
+
+std::vector<link::Telemetry> SimulatedRover::state(double now_s) {
+  std::vector<link::Telemetry> out;
+  const auto legs = world_.rover().legStates();
+  for (int leg = 0; leg < gait::kLegCount; ++leg)
+    out.push_back(message(
+        now_s, link::LegState{leg, legs[std::size_t(leg)].joints, legs[std::size_t(leg)].contact}));
+  // The simulator knows where the body is; a real rover would report its
+  // own estimate. The ground dead-reckons from the leg states either way.
+  const auto& body = world_.rover().truth().body;
+  out.push_back(message(
+      now_s, link::BodyState{body.xy.x(), body.xy.y(), body.link_z, body.heading_rad, false}));
+  return out;
+}
+
+std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command, double now_s) {
+  std::string reason = verifier_.check(command);
+  if (reason.empty())
+    reason = link::outsideLimits(command.body, config_.gait.model, config_.gait.gait);
+  std::vector<link::Telemetry> changes;
+  if (reason.empty()) reason = execute(command.body, now_s, changes);
+  std::vector<link::Telemetry> out{message(
+      now_s, link::CommandAck{command.operator_id, command.sequence, reason.empty(), reason})};
+  out.insert(out.end(), changes.begin(), changes.end());
+  return out;
+}
+
+// Empty, or why the command was not carried out.
+std::string SimulatedRover::execute(const link::CommandBody& body, double now_s,
+                                    std::vector<link::Telemetry>& out) {
+  if (const auto* m = std::get_if<link::LegMove>(&body)) {
+    world_.rover().executeLeg({m->leg, m->waypoints});
+  } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
+    world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
+  } else if (std::holds_alternative<link::AcquireScan>(body)) {
+    out.push_back(message(now_s, world_.scan(++scans_)));
+    return {};
+  } else if (std::holds_alternative<link::Grasp>(body)) {
+    return "this rover has no manipulator";
+  } else {
+    return {};  // Hold: every move completes before the next command is read
+  }
+  const auto states = state(now_s);
+  out.insert(out.end(), states.begin(), states.end());
+  return {};
+}
+
+}  // namespace ambler::rover

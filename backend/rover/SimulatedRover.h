@@ -1,0 +1,52 @@
+#pragma once
+
+// The rover's side of a link, played by the simulator: it verifies each
+// command (signature, sequence, kinematic limits), executes it on the
+// simulated Ambler and answers with an acknowledgement and the state that
+// changed. Behind the in-process link and behind ambler-sim's DDS endpoint.
+
+#include <cstdint>
+#include <vector>
+
+#include "link/Messages.h"
+#include "link/Signing.h"
+#include "sim/RoverWorld.h"
+#include "walk/AutonomousWalk.h"
+
+namespace ambler::rover {
+
+struct SimulatedRoverOptions {
+  std::uint32_t rover_id = 1;
+  std::uint64_t seed = 1;  // obstacle course and execution noise
+  std::vector<link::OperatorKey> operators;
+  Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
+};
+
+class SimulatedRover {
+ public:
+  SimulatedRover(const walk::WalkConfig& config, SimulatedRoverOptions options);
+
+  // The acknowledgement first (a NACK with the reason, and nothing else, if
+  // refused), then what changed: leg and body states after a move, the range
+  // image after AcquireScan.
+  std::vector<link::Telemetry> handle(const link::Command& command, double now_s);
+  link::Telemetry heartbeat(double now_s);
+  // Every leg and the body, as the rover reports them now.
+  std::vector<link::Telemetry> state(double now_s);
+
+  std::uint32_t roverId() const { return options_.rover_id; }
+  const sim::RoverWorld& world() const { return world_; }
+
+ private:
+  link::Telemetry message(double now_s, link::TelemetryBody body) const;
+  std::string execute(const link::CommandBody& body, double now_s,
+                      std::vector<link::Telemetry>& out);
+
+  walk::WalkConfig config_;
+  SimulatedRoverOptions options_;
+  sim::RoverWorld world_;
+  link::CommandVerifier verifier_;
+  std::uint64_t heartbeats_ = 0, scans_ = 0;
+};
+
+}  // namespace ambler::rover

@@ -1,0 +1,117 @@
+#include "rover/SimulatedRover.h"
+
+#include <gtest/gtest.h>
+
+#include "core/Resources.h"
+#include "link/Codec.h"
+#include "rover/InProcessLink.h"
+
+namespace ambler::rover {
+namespace {
+
+const walk::WalkConfig& config() {
+  static const walk::WalkConfig c =
+      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                           findResource("config/rover-scanner.json"));
+  return c;
+}
+
+link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
+
+SimulatedRoverOptions options() {
+  SimulatedRoverOptions o;
+  o.rover_id = 2;
+  o.operators = {alice()};
+  o.scanned_area = {-6, -6, 6, 12};
+  return o;
+}
+
+link::Command command(link::CommandBody body, link::CommandSigner* signer) {
+  link::Command c;
+  c.rover_id = 2;
+  c.body = std::move(body);
+  if (signer) signer->sign(c);
+  return c;
+}
+
+const link::CommandAck& ackOf(const std::vector<link::Telemetry>& out) {
+  return std::get<link::CommandAck>(out.at(0).body);
+}
+
+TEST(SimulatedRover, ASignedBodyMoveIsExecutedAndReported) {
+  SimulatedRover rover(config(), options());
+  link::CommandSigner signer(alice());
+  const auto start = rover.world().rover().truth().body.xy;
+  const auto out = rover.handle(command(link::BodyMove{0.0, 0.3, 0.0, 0.0}, &signer), 1.0);
+  ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  EXPECT_EQ(ackOf(out).sequence, 1u);
+  ASSERT_EQ(out.size(), 1u + gait::kLegCount + 1);  // ack, six legs, body
+  const auto& body = std::get<link::BodyState>(out.back().body);
+  // Forward is +y; execution noise is about 1 cm per metre.
+  EXPECT_NEAR(body.y_m - start.y(), 0.3, 0.02);
+  EXPECT_EQ(out.back().rover_id, 2u);
+}
+
+TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
+  SimulatedRover rover(config(), options());
+  link::CommandSigner signer(alice());
+  const auto before = rover.world().rover().truth().body.xy;
+
+  auto out = rover.handle(command(link::BodyMove{0.0, 0.3, 0.0, 0.0}, nullptr), 1.0);
+  EXPECT_FALSE(ackOf(out).accepted);
+  EXPECT_EQ(ackOf(out).reason, "unsigned command");
+  EXPECT_EQ(out.size(), 1u);
+
+  out = rover.handle(command(link::BodyMove{0.0, 2.5, 0.0, 0.0}, &signer), 2.0);
+  EXPECT_EQ(ackOf(out).reason, "body advance 2.50 m over the 1.50 m limit");
+
+  const auto legs = rover.state(0.0);
+  gait::LegJoints far = std::get<link::LegState>(legs[0].body).joints;
+  far.extension_m = 2.8;
+  out = rover.handle(command(link::LegMove{0, {far}}, &signer), 3.0);
+  EXPECT_EQ(ackOf(out).reason, "leg 0 waypoint 1: extension 2.80 m outside 0.50-2.50 m");
+
+  out = rover.handle(command(link::Grasp{0, 0, 0, 0, 0.3}, &signer), 4.0);
+  EXPECT_EQ(ackOf(out).reason, "this rover has no manipulator");
+
+  EXPECT_EQ((rover.world().rover().truth().body.xy - before).norm(), 0.0);
+}
+
+TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
+  SimulatedRover rover(config(), options());
+  link::CommandSigner signer(alice());
+  const auto out = rover.handle(command(link::AcquireScan{}, &signer), 1.0);
+  ASSERT_TRUE(ackOf(out).accepted);
+  ASSERT_EQ(out.size(), 2u);
+  const auto& image = std::get<sensor::RangeImage>(out[1].body);
+  EXPECT_GT(image.returnCount(), image.rows() * image.cols() / 2);
+  const auto& body = rover.world().rover().truth().body;
+  EXPECT_NEAR(image.sensor_to_world.translation().x(), body.xy.x(), 1e-9);
+}
+
+// The same exchange through the link: a console sends, the rover's thread
+// answers; heartbeats keep coming while the console waits.
+TEST(InProcessLink, CommandsGoOutAndTelemetryComesBack) {
+  InProcessLink link(config(), options(), std::chrono::milliseconds(20));
+  link::CommandSigner signer(alice());
+  link.send(command(link::BodyMove{0.0, 0.2, 0.0, 0.0}, &signer));
+  link.send(command(link::BodyMove{0.0, 0.2, 0.0, 0.0}, nullptr));
+  std::vector<link::CommandAck> acks;
+  int heartbeats = 0, bodies = 0;
+  for (int i = 0; i < 100 && (acks.size() < 2 || heartbeats < 2); ++i)
+    for (const auto& t : link.receive(std::chrono::milliseconds(50))) {
+      if (const auto* ack = std::get_if<link::CommandAck>(&t.body)) acks.push_back(*ack);
+      heartbeats += std::holds_alternative<link::Heartbeat>(t.body);
+      bodies += std::holds_alternative<link::BodyState>(t.body);
+    }
+  ASSERT_EQ(acks.size(), 2u);
+  EXPECT_TRUE(acks[0].accepted);
+  EXPECT_FALSE(acks[1].accepted);
+  EXPECT_EQ(acks[1].reason, "unsigned command");
+  EXPECT_GE(heartbeats, 2);
+  EXPECT_EQ(bodies, 2);  // the state at start and after the one move
+  EXPECT_NE(link.describe().find("rover 2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ambler::rover
