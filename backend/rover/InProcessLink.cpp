@@ -37,37 +37,29 @@ std::string InProcessLink::describe() const {
   return "simulator in this process, rover " + std::to_string(rover_.roverId());
 }
 
-double InProcessLink::roverTimeS() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-}
-
-void InProcessLink::publish(std::vector<link::Telemetry> messages) {
-  {
-    std::lock_guard lock(mutex_);
-    for (auto& m : messages) telemetry_.push_back(std::move(m));
-  }
-  telemetry_ready_.notify_all();
-}
-
-// The rover's loop: the full state once, then commands as they come and a
-// heartbeat whenever a period passes.
+// The rover's loop on this thread; commands come from the queue.
 void InProcessLink::serve() {
-  publish(rover_.state(roverTimeS()));
-  auto next_heartbeat = std::chrono::steady_clock::now();
-  while (true) {
+  RoverLoopIo io;
+  io.receive = [this](std::chrono::milliseconds timeout) {
     std::unique_lock lock(mutex_);
-    commands_ready_.wait_until(lock, next_heartbeat,
-                               [&] { return stopping_ || !commands_.empty(); });
-    if (stopping_) return;
-    std::deque<link::Command> batch;
-    batch.swap(commands_);
-    lock.unlock();
-    for (const auto& command : batch) publish(rover_.handle(command, roverTimeS()));
-    if (std::chrono::steady_clock::now() >= next_heartbeat) {
-      publish({rover_.heartbeat(roverTimeS())});
-      next_heartbeat += heartbeat_period_;
+    commands_ready_.wait_for(lock, timeout, [&] { return stopping_ || !commands_.empty(); });
+    std::vector<Incoming> batch;
+    for (auto& c : commands_) batch.push_back({std::move(c), {}});
+    commands_.clear();
+    return batch;
+  };
+  io.publish = [this](const link::Telemetry& t) {
+    {
+      std::lock_guard lock(mutex_);
+      telemetry_.push_back(t);
     }
-  }
+    telemetry_ready_.notify_all();
+  };
+  io.stopping = [this] {
+    std::lock_guard lock(mutex_);
+    return stopping_;
+  };
+  runRoverLoop(rover_, heartbeat_period_, io);
 }
 
 }  // namespace ambler::rover

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "link/Link.h"
+#include "rover/RoverLoop.h"
 #include "rover/SimulatedRover.h"
 
 namespace ambler::rover {
@@ -26,12 +27,9 @@ class InProcessLink : public link::Link {
 
  private:
   void serve();
-  double roverTimeS() const;
-  void publish(std::vector<link::Telemetry> messages);
 
   SimulatedRover rover_;
   std::chrono::milliseconds heartbeat_period_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::mutex mutex_;
   std::condition_variable commands_ready_, telemetry_ready_;
   std::deque<link::Command> commands_;

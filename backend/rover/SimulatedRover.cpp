@@ -33,6 +33,11 @@ std::vector<link::Telemetry> SimulatedRover::state(double now_s) {
   return out;
 }
 
+std::vector<link::Telemetry> SimulatedRover::refuse(const link::Command& command,
+                                                    const std::string& reason, double now_s) const {
+  return {message(now_s, link::CommandAck{command.operator_id, command.sequence, false, reason})};
+}
+
 std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command, double now_s) {
   std::string reason = verifier_.check(command);
   if (reason.empty())

@@ -30,6 +30,9 @@ class SimulatedRover {
   // refused), then what changed: leg and body states after a move, the range
   // image after AcquireScan.
   std::vector<link::Telemetry> handle(const link::Command& command, double now_s);
+  // The NACK for a command refused before it could be read.
+  std::vector<link::Telemetry> refuse(const link::Command& command, const std::string& reason,
+                                      double now_s) const;
   link::Telemetry heartbeat(double now_s);
   // Every leg and the body, as the rover reports them now.
   std::vector<link::Telemetry> state(double now_s);

@@ -1,0 +1,111 @@
+// ambler-sim: the simulated Ambler served over DDS, for a ground station in
+// another process or on another host (docs/formats.md, "Link messages").
+// Verifies every command with the operators' keys, executes it on the
+// obstacle course and publishes acks, leg and body states, range images and
+// a heartbeat.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "core/Resources.h"
+#include "link/dds/DdsMessages.h"
+#include "rover/RoverLoop.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void onSignal(int) { g_stop = true; }
+
+struct Args {
+  std::uint32_t domain = 0;
+  std::uint32_t rover_id = 1;
+  std::uint64_t seed = 1;
+  std::string keys;
+  int heartbeat_ms = 1000;
+  double duration_s = 0.0;
+};
+
+void run(const Args& a) {
+  using namespace ambler;
+  const auto config =
+      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                           findResource("config/rover-scanner.json"));
+  rover::SimulatedRoverOptions options;
+  options.rover_id = a.rover_id;
+  options.seed = a.seed;
+  if (!a.keys.empty()) options.operators = link::readOperatorKeys(a.keys);
+  rover::SimulatedRover rover(config, options);
+  link::dds::RoverEndpoint endpoint(a.domain, a.rover_id);
+
+  long commands = 0, refused = 0;
+  const auto start = std::chrono::steady_clock::now();
+  rover::RoverLoopIo io;
+  io.receive = [&](std::chrono::milliseconds timeout) {
+    std::vector<rover::Incoming> in;
+    for (auto& r : endpoint.takeCommands(std::min(timeout, std::chrono::milliseconds(100))))
+      in.push_back({std::move(r.command), std::move(r.malformed)});
+    commands += long(in.size());
+    return in;
+  };
+  io.publish = [&](const link::Telemetry& t) {
+    if (const auto* ack = std::get_if<link::CommandAck>(&t.body); ack && !ack->accepted) ++refused;
+    endpoint.publish(t);
+  };
+  io.stopping = [&] {
+    return g_stop.load() ||
+           (a.duration_s > 0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+                a.duration_s);
+  };
+  std::cout << nlohmann::json{{"ambler_sim", "ready"},
+                              {"domain", a.domain},
+                              {"rover_id", a.rover_id},
+                              {"seed", a.seed},
+                              {"operators", options.operators.size()}}
+            << std::endl;
+  rover::runRoverLoop(rover, std::chrono::milliseconds(a.heartbeat_ms), io);
+  std::cout << nlohmann::json{{"ambler_sim", "stopped"},
+                              {"commands", commands},
+                              {"refused", refused}}
+            << std::endl;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Ambler simulator served over DDS (loopback; see docs/formats.md)"};
+  app.set_version_flag("--version", std::string("ambler-sim ") + AMBLER_VERSION);
+  Args a;
+  app.add_option("--domain", a.domain, "DDS domain")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
+  app.add_option("--rover-id", a.rover_id, "this rover's id (the topics' key)")
+      ->capture_default_str();
+  app.add_option("--seed", a.seed, "obstacle course and execution noise seed")
+      ->capture_default_str();
+  app.add_option("--keys", a.keys,
+                 "operators' keys, {\"operators\": [{\"operator\", \"key_hex\"}]}; without it "
+                 "every command is refused")
+      ->check(CLI::ExistingFile);
+  app.add_option("--heartbeat-ms", a.heartbeat_ms, "heartbeat period [ms]")
+      ->check(CLI::Range(10, 60000))
+      ->capture_default_str();
+  app.add_option("--duration", a.duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    run(a);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "ambler-sim: error: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,32 @@
+#pragma once
+
+// The rover's loop, whatever carries its messages: the full state once,
+// then each command as it comes (a NACK for one that arrived malformed),
+// and a heartbeat whenever a period passes.
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rover/SimulatedRover.h"
+
+namespace ambler::rover {
+
+struct Incoming {
+  link::Command command;  // at least rover id, operator and sequence when malformed
+  std::string malformed;  // why it could not be read; empty when it could
+};
+
+struct RoverLoopIo {
+  // Commands that arrived, waiting up to the timeout while none has; an
+  // empty list when stopping.
+  std::function<std::vector<Incoming>(std::chrono::milliseconds)> receive;
+  std::function<void(const link::Telemetry&)> publish;
+  std::function<bool()> stopping;
+};
+
+void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_period,
+                  const RoverLoopIo& io);
+
+}  // namespace ambler::rover

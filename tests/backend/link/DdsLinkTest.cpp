@@ -1,0 +1,170 @@
+// The link over Cyclone DDS on loopback: a console and the simulated rover
+// in this process, and ambler-sim as its own process. Each test process
+// takes its own domain so that parallel ctest runs do not hear each other.
+#include "link/dds/DdsMessages.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include "core/Resources.h"
+#include "rover/RoverLoop.h"
+
+namespace ambler::link::dds {
+namespace {
+
+std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
+
+OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
+
+const walk::WalkConfig& config() {
+  static const walk::WalkConfig c =
+      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                           findResource("config/rover-scanner.json"));
+  return c;
+}
+
+Command signedCommand(CommandBody body, CommandSigner& signer, std::uint32_t rover = 1) {
+  Command c;
+  c.rover_id = rover;
+  c.body = std::move(body);
+  signer.sign(c);
+  return c;
+}
+
+// Collects telemetry until `done` says so or `rounds` x 50 ms pass.
+template <typename Done>
+std::vector<Telemetry> collect(Link& link, Done&& done, int rounds = 100) {
+  std::vector<Telemetry> all;
+  for (int i = 0; i < rounds && !done(all); ++i)
+    for (auto& t : link.receive(std::chrono::milliseconds(50))) all.push_back(std::move(t));
+  return all;
+}
+
+template <typename T>
+std::vector<T> only(const std::vector<Telemetry>& all) {
+  std::vector<T> out;
+  for (const auto& t : all)
+    if (const auto* m = std::get_if<T>(&t.body)) out.push_back(*m);
+  return out;
+}
+
+// The simulated rover serving DDS on a thread of this process.
+class RoverThread {
+ public:
+  explicit RoverThread(std::uint32_t domain) : endpoint_(domain, 1) {
+    rover::SimulatedRoverOptions options;
+    options.operators = {alice()};
+    options.scanned_area = {-6, -6, 6, 12};
+    rover_ = std::make_unique<rover::SimulatedRover>(config(), options);
+    thread_ = std::thread([this] {
+      rover::RoverLoopIo io;
+      io.receive = [this](std::chrono::milliseconds timeout) {
+        std::vector<rover::Incoming> in;
+        for (auto& r : endpoint_.takeCommands(std::min(timeout, std::chrono::milliseconds(50))))
+          in.push_back({std::move(r.command), std::move(r.malformed)});
+        return in;
+      };
+      io.publish = [this](const Telemetry& t) { endpoint_.publish(t); };
+      io.stopping = [this] { return stop_.load(); };
+      rover::runRoverLoop(*rover_, std::chrono::milliseconds(100), io);
+    });
+  }
+  ~RoverThread() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  RoverEndpoint endpoint_;
+  std::unique_ptr<rover::SimulatedRover> rover_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TEST(DdsLink, CommandsAndTelemetryCrossTheDomainInOrder) {
+  const auto domain = testDomain();
+  RoverThread rover(domain);
+  DdsLink link(domain, 1);
+  EXPECT_EQ(link.describe(), "DDS domain " + std::to_string(domain) + ", rover 1");
+  // The rover's first state is there for a console that joins late.
+  auto all = collect(link, [](const auto& a) { return !only<BodyState>(a).empty(); });
+  ASSERT_FALSE(only<BodyState>(all).empty());
+  const double start_y = only<BodyState>(all).back().y_m;
+
+  CommandSigner signer(alice());
+  link.send(signedCommand(BodyMove{0.0, 0.2, 0.0, 0.0}, signer));
+  link.send(signedCommand(BodyMove{0.0, 0.2, 0.0, 0.0}, signer));
+  link.send(signedCommand(AcquireScan{}, signer));
+  Command unsigned_command;
+  unsigned_command.rover_id = 1, unsigned_command.operator_id = "alice";
+  unsigned_command.sequence = 99, unsigned_command.body = Hold{};
+  link.send(unsigned_command);
+  all = collect(link, [](const auto& a) {
+    return only<CommandAck>(a).size() >= 4 && !only<sensor::RangeImage>(a).empty();
+  });
+  const auto acks = only<CommandAck>(all);
+  ASSERT_EQ(acks.size(), 4u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(acks[i].accepted) << acks[i].reason;
+    EXPECT_EQ(acks[i].sequence, std::uint64_t(i + 1));  // in the order sent
+  }
+  EXPECT_EQ(acks[3].reason, "unsigned command");
+  const auto images = only<sensor::RangeImage>(all);
+  ASSERT_EQ(images.size(), 1u);
+  EXPECT_GT(images[0].returnCount(), images[0].rows() * images[0].cols() / 2);
+  EXPECT_NEAR(only<BodyState>(all).back().y_m - start_y, 0.4, 0.03);
+  EXPECT_EQ(link.dropped(), 0);
+}
+
+TEST(DdsLink, AnotherRoversTrafficIsNotSeen) {
+  const auto domain = testDomain();
+  RoverThread rover(domain);  // rover 1
+  DdsLink other(domain, 2);
+  const auto all = collect(
+      other, [](const auto&) { return false; }, 20);
+  EXPECT_TRUE(all.empty());
+}
+
+// ambler-sim in its own process: a console signs, the simulator verifies.
+TEST(AmblerSim, ServesASignedConsoleOverDds) {
+  const auto domain = testDomain();
+  const auto keys = std::filesystem::temp_directory_path() /
+                    ("ambler_sim_keys_" + std::to_string(::getpid()) + ".json");
+  std::string hex;
+  for (int i = 0; i < 32; ++i) hex += "07";  // alice(): 32 bytes of 7
+  std::ofstream(keys) << R"({"operators": [{"operator": "alice", "key_hex": ")" << hex << R"("}]})";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string d = std::to_string(domain);
+    ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(), "--heartbeat-ms",
+            "100", "--duration", "30", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  DdsLink link(domain, 1);
+  auto all = collect(link, [](const auto& a) { return !only<Heartbeat>(a).empty(); });
+  ASSERT_FALSE(only<Heartbeat>(all).empty()) << "no heartbeat from ambler-sim";
+  CommandSigner signer(alice());
+  link.send(signedCommand(BodyMove{0.0, 0.3, 0.0, 0.0}, signer));
+  CommandSigner forger({"alice", std::vector<std::uint8_t>(32, 9)}, 2);
+  link.send(signedCommand(BodyMove{0.0, 0.3, 0.0, 0.0}, forger));
+  all = collect(link, [](const auto& a) { return only<CommandAck>(a).size() >= 2; });
+  ::kill(child, SIGTERM);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  std::filesystem::remove(keys);
+  const auto acks = only<CommandAck>(all);
+  ASSERT_EQ(acks.size(), 2u);
+  EXPECT_TRUE(acks[0].accepted) << acks[0].reason;
+  EXPECT_EQ(acks[1].reason, "bad signature for operator \"alice\"");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "ambler-sim did not stop cleanly";
+}
+
+}  // namespace
+}  // namespace ambler::link::dds
