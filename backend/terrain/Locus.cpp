@@ -83,11 +83,9 @@ struct Bracket {
   RowSample lower;  // the line behind it
 };
 
-struct CellResult {
-  CellState state = CellState::kUnknown;
-  double z = 0.0;
-  double sigma = 0.0;
-  double noise_sigma = 0.0;  // the part of sigma from the range noise [m]
+// What the range noise does to a cell's height.
+struct HeightNoise {
+  double sigma = INFINITY;  // [m]
   // The slope of Delta across the bracket is significant against the noise.
   bool significant = false;
   // Delta stays within the noise beyond the bracket, or its slope is not
@@ -97,13 +95,11 @@ struct CellResult {
   RowSample above{}, below{};
 };
 
-// Std. dev. of the height from the range noise, the significance of the
-// slope of Delta, and the scanlines around the bracket it looked at.
-struct HeightNoise {
-  double sigma = INFINITY;
-  bool significant = false;
-  bool ambiguous = false;
-  RowSample above{}, below{};
+struct CellResult {
+  CellState state = CellState::kUnknown;
+  double z = 0.0;
+  double sigma = 0.0;  // noise and sampling together [m]
+  HeightNoise noise{};
 };
 
 // The heights of the line over which Delta is within the noise of zero.
@@ -267,15 +263,15 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   const auto found = walk(line, down, startRow(line, z_guess), bracket);
   if (found != CellState::kKnown) return {found};
   auto result = refine(line, bracket);
-  if (result.state != CellState::kKnown || !result.ambiguous) return result;
+  if (result.state != CellState::kKnown || !result.noise.ambiguous) return result;
   // A line running beside a vertical face stays within the noise of the
   // surface over a long stretch, so Delta may change sign anywhere along it:
   // the surface may be at either end (the face's foot or its top). Noise
   // alone explains a band of about 6 sigma around a crossing with a
   // significant slope; beyond that, the cell's height is the band's middle,
   // give or take half the band.
-  const Band band = followBand(line, down, bracket, result.above, result.below);
-  const double explained = result.significant ? 6 * result.noise_sigma : 0.0;
+  const Band band = followBand(line, down, bracket, result.noise.above, result.noise.below);
+  const double explained = result.noise.significant ? 6 * result.noise.sigma : 0.0;
   const double excess = band.height() - explained;
   if (excess > 0) {
     result.z = 0.5 * (band.top + band.bottom);
@@ -412,14 +408,7 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
   if (isSteepFace(quad_row, quad_col)) return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
-  return {CellState::kKnown,
-          t,
-          std::hypot(noise.sigma, sampling),
-          noise.sigma,
-          noise.significant,
-          noise.ambiguous,
-          noise.above,
-          noise.below};
+  return {CellState::kKnown, t, std::hypot(noise.sigma, sampling), noise};
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
