@@ -84,7 +84,8 @@ CommandBody bodyFrom(const ambler_dds_CommandBody& b) {
   throw DecodeError("unknown command kind " + std::to_string(int(b._d)));
 }
 
-Command commandFrom(const ambler_dds_Command& s) {
+// Everything but the body, which may not be readable.
+Command headerOf(const ambler_dds_Command& s) {
   Command c;
   c.rover_id = s.rover_id;
   c.operator_id = s.operator_id ? s.operator_id : "";
@@ -94,7 +95,6 @@ Command commandFrom(const ambler_dds_Command& s) {
     c.hmac.emplace();
     std::copy(std::begin(s.hmac), std::end(s.hmac), c.hmac->begin());
   }
-  c.body = bodyFrom(s.body);
   return c;
 }
 
@@ -210,12 +210,10 @@ std::vector<RoverEndpoint::Received> RoverEndpoint::takeCommands(
   for (int i = 0; i < n; ++i) {
     const auto& s = *static_cast<const ambler_dds_Command*>(samples[i]);
     if (!infos[i].valid_data || s.rover_id != rover_id_) continue;
-    Received r;
-    r.command.rover_id = s.rover_id;
-    r.command.operator_id = s.operator_id ? s.operator_id : "";
-    r.command.sequence = s.sequence_number;
+    Received r{headerOf(s), {}};
     try {
-      r.command = checked(commandFrom(s));
+      r.command.body = bodyFrom(s.body);
+      r.command = checked(r.command);
     } catch (const DecodeError& e) {
       r.malformed = e.what();
     }
