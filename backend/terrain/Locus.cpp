@@ -224,12 +224,10 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
   }
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
-  // One level per halving while the bracket is at least epsilon wide, and
-  // one more for the middle of the last bracket.
-  for (double h = std::abs(g_.phi_step) / 2;; h /= 2) {
+  // One level per halving until the bracket is narrower than epsilon.
+  for (double h = std::abs(g_.phi_step) / 2; 2 * h > epsilon_rad; h /= 2) {
     sin_half_.push_back(std::sin(h));
     cos_half_.push_back(std::cos(h));
-    if (h * 2 < epsilon_rad) break;
   }
 }
 
@@ -371,33 +369,42 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
     const double top = quad[0] + fc * (quad[1] - quad[0]);
     return top + u_mid * (quad[2] + fc * (quad[3] - quad[2]) - top);
   };
-  // Only the sign of Delta matters here: with t = N / D, rho_I >= I is
-  // |a D + N b|^2 >= I^2 D^2, which needs neither a division nor a root.
-  auto behind = [&](double u_mid, double s, double c, bool& ok) {
+  // With t = N / D, f = |a D + N b|^2 - I^2 D^2 = D^2 (rho_I^2 - I^2) has
+  // the sign of Delta and its root, and needs neither a division nor a root.
+  auto f = [&](double u_mid, double s, double c) {
     const double den = line.b.z() * c - line.b.y() * s;
     const double num = line.a.y() * s - line.a.z() * c;
     const double range = imageRange(u_mid);
-    ok = std::isfinite(range);
-    return (line.a * den + line.b * num).squaredNorm() >= range * range * den * den;
+    return (line.a * den + line.b * num).squaredNorm() - range * range * den * den;
   };
-  double u = 0.0, h = 1.0;
+  auto fAtRow = [&](const RowSample& x) {
+    const double den = 1.0 / inverse_den_[x.row];
+    return den * den * x.delta * (2 * x.at.rho - x.delta);
+  };
+  // Bisection keeps u in front of the surface and u + 2h behind it.
+  double u = 0.0, h = 0.5, f_lo = fAtRow(br.upper), f_hi = fAtRow(br.lower);
   double sin_lo = sin_phi_[br.upper.row], cos_lo = cos_phi_[br.upper.row];
-  const std::size_t levels = sin_half_.size() - 1;
-  for (std::size_t level = 0; level <= levels; ++level) {
-    h /= 2;
+  for (std::size_t level = 0; level < sin_half_.size(); ++level, h /= 2) {
     const double sh = sign * sin_half_[level], ch = cos_half_[level];
     const double s = sin_lo * ch + cos_lo * sh, c = cos_lo * ch - sin_lo * sh;
-    bool ok = false;
-    const bool is_behind = behind(u + h, s, c, ok);
-    if (!ok) return {CellState::kUnknown};
-    if (level == levels) {
-      // The root lies in [u, u + 2h]: take the middle, u + h.
-      const double t = (line.a.y() * s - line.a.z() * c) / (line.b.z() * c - line.b.y() * s);
-      return finish(line, br, t, u + h, col_upper + (u + h) * col_step, used_quad_col);
-    }
-    if (!is_behind) u += h, sin_lo = s, cos_lo = c;
+    const double f_mid = f(u + h, s, c);
+    if (std::isnan(f_mid)) return {CellState::kUnknown};
+    // Random either way, so written without a branch.
+    const bool in_front = f_mid < 0;
+    u = in_front ? u + h : u;
+    f_lo = in_front ? f_mid : f_lo;
+    f_hi = in_front ? f_hi : f_mid;
+    sin_lo = in_front ? s : sin_lo;
+    cos_lo = in_front ? c : cos_lo;
   }
-  return {CellState::kUnknown};
+  // Across the last bracket (2h wide) f is linear to far below the range
+  // noise: its root by linear interpolation.
+  const double w = 2 * h * f_lo / (f_lo - f_hi);
+  const double d = sign * w * std::abs(g_.phi_step), d2 = d * d;
+  const double sd = d * (1 - d2 / 6), cd = 1 - d2 / 2 + d2 * d2 / 24;  // |d| < 1e-3
+  const double s = sin_lo * cd + cos_lo * sd, c = cos_lo * cd - sin_lo * sd;
+  const double t = (line.a.y() * s - line.a.z() * c) / (line.b.z() * c - line.b.y() * s);
+  return finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);
 }
 
 // Shadow, face or known; for a known cell, its sigma.
@@ -588,7 +595,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   if (image.rows() < 2 || image.cols() < 2) return map;
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
-      options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 32;
+      options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 8;
   const LocusSolver solver(image, edges, epsilon);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();

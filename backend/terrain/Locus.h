@@ -9,8 +9,9 @@ namespace ambler::terrain {
 
 struct LocusOptions {
   // The binary search along a locus stops when its bracket is narrower than
-  // this [rad]; 0 means 1/32 of the scanline spacing (heights to about a
-  // millimetre at 20 m, well inside the range noise).
+  // this [rad], and the root is interpolated linearly across the last
+  // bracket; 0 means 1/8 of the scanline spacing (heights to well under a
+  // millimetre at 20 m, far inside the range noise).
   double epsilon_rad = 0.0;
   OccludingEdgeOptions edges;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
@@ -20,8 +21,9 @@ struct LocusOptions {
 // algorithm, generalised to any sensor pose (footnote 4). For each cell the
 // vertical world line through its centre is traced in image space: the two
 // scanlines between which (locus range - image range) changes sign bracket
-// the surface, a binary search on phi narrows the bracket to epsilon, and
-// the image is interpolated from the four pixels around the intersection
+// the surface, a binary search on phi narrows the bracket to epsilon, a
+// linear interpolation across it places the root, and the image is
+// interpolated from the four pixels around the intersection
 // (Lagrange, i.e. bilinear in phi and theta). A cell whose intersection lies
 // in a quad of pixels across an occluding edge is shadow; a cell whose line
 // leaves the image, or meets pixels without returns, is unknown. Elevations

@@ -43,9 +43,7 @@ void expectExactPlane(const sim::Terrain& plane, const Eigen::Isometry3d& pose) 
   const sim::RayCaster caster(plane);
   const auto m = scanner(0.0);
   const auto image = sim::simulateScan(caster, m, pose, 1);
-  LocusOptions options;
-  options.epsilon_rad = 1e-7;
-  const auto map = buildLocusMap(image, kGrid, options);
+  const auto map = buildLocusMap(image, kGrid);
   const auto truth = sim::computeVisibility(caster, m, pose, kGrid);
   int checked = 0;
   for (int r = 0; r < kGrid.rows; ++r)
