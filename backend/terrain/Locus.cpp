@@ -167,8 +167,9 @@ class LocusSolver {
   // 1 / (b_z cos(phi) - b_y sin(phi)) per scanline: every line shares the
   // direction b, so the denominator of eq. 2 depends on the scanline only.
   std::vector<double> inverse_den_;
-  // Pixel (r, c) and (r, c + 1) both have returns, for interpolation.
-  std::vector<std::uint8_t> pair_ok_;
+  // The image's ranges with NaN where a pixel has no return, so that an
+  // interpolation that uses such a pixel is NaN without a test.
+  std::vector<float> range_;
   std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
@@ -196,10 +197,10 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
     const double den = b_.z() * cos_phi_.back() - b_.y() * sin_phi_.back();
     inverse_den_.push_back(std::abs(den) < 1e-12 ? INFINITY : 1.0 / den);
   }
-  pair_ok_.assign(std::size_t(g_.rows) * g_.cols, 0);
+  range_.assign(std::size_t(g_.rows) * g_.cols, NAN);
   for (int r = 0; r < g_.rows; ++r)
-    for (int c = 0; c + 1 < g_.cols; ++c)
-      pair_ok_[std::size_t(r) * g_.cols + c] = hasReturn(r, c) && hasReturn(r, c + 1);
+    for (int c = 0; c < g_.cols; ++c)
+      if (hasReturn(r, c)) range_[std::size_t(r) * g_.cols + c] = image_.at(r, c);
   // Every pixel's point in the world (eq. 1 and the pose), from the
   // per-row and per-column sines instead of three sin/cos per pixel.
   const Eigen::Matrix3d rotation = image.sensor_to_world.linear();
@@ -354,12 +355,10 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
   if (std::max(col_upper, col_upper + col_step) > quad_col + 1) quad_col = -1;
   std::array<double, 4> quad{};
   if (quad_col >= 0) {
-    const int c0 = quad_col, c1 = c0 + 1;
-    if (!pair_ok_[std::size_t(br.upper.row) * g_.cols + c0] ||
-        !pair_ok_[std::size_t(br.lower.row) * g_.cols + c0])
-      return {CellState::kUnknown};
-    quad = {image_.at(br.upper.row, c0), image_.at(br.upper.row, c1), image_.at(br.lower.row, c0),
-            image_.at(br.lower.row, c1)};
+    // A pixel without a return makes the search's f NaN: unknown.
+    const float* upper = &range_[std::size_t(br.upper.row) * g_.cols + quad_col];
+    const float* lower = &range_[std::size_t(br.lower.row) * g_.cols + quad_col];
+    quad = {upper[0], upper[1], lower[0], lower[1]};
   }
   int used_quad_col = quad_col;
   auto imageRange = [&](double u_mid) {
@@ -426,12 +425,10 @@ double LocusSolver::rangeAt(int upper, int lower, double u, double col, int& qua
   // the clamp (and truncation is not a library call).
   quad_col = std::clamp(int(col), 0, g_.cols - 2);
   const double fc = col - quad_col;  // beyond [0, 1] within half a pixel of the border
-  const int c0 = quad_col, c1 = c0 + 1;
-  if (!pair_ok_[std::size_t(upper) * g_.cols + c0] || !pair_ok_[std::size_t(lower) * g_.cols + c0])
-    return NAN;
-  const double top = image_.at(upper, c0) + fc * (image_.at(upper, c1) - image_.at(upper, c0));
-  const double bottom = image_.at(lower, c0) + fc * (image_.at(lower, c1) - image_.at(lower, c0));
-  return top + u * (bottom - top);
+  const float* a = &range_[std::size_t(upper) * g_.cols + quad_col];
+  const float* b = &range_[std::size_t(lower) * g_.cols + quad_col];
+  const double top = a[0] + fc * (a[1] - a[0]);
+  return top + u * (b[0] + fc * (b[1] - b[0]) - top);
 }
 
 // Std. dev. of rangeAt() from the pixels' noise, sigma_rho = k rho^2 each.
@@ -452,8 +449,9 @@ double LocusSolver::noiseOfRange(int upper, int lower, double u, double col) con
 // The image range along one scanline, interpolated between columns; NaN
 // without returns.
 double LocusSolver::imageRangeOnRow(int row, double col) const {
-  int quad_col = 0;
-  return rangeAt(row, row, 0.0, col, quad_col);
+  const int c0 = std::clamp(int(col), 0, g_.cols - 2);
+  const float* a = &range_[std::size_t(row) * g_.cols + c0];
+  return a[0] + (col - c0) * (a[1] - a[0]);
 }
 
 // Linearised propagation (docs/elevation-uncertainty.md): an error e in the
