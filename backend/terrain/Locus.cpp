@@ -111,10 +111,9 @@ struct Band {
 // Over the image's columns and half a pixel beyond.
 PixelTable columnTable(const sensor::ScanGeometry& g) {
   const double a = g.theta(-1.5), b = g.theta(g.cols + 0.5);
-  const double lo = std::max(std::min(a, b), -M_PI / 2), hi = std::min(std::max(a, b), M_PI / 2);
-  return PixelTable(std::sin(lo), std::sin(hi), [&](double sin_theta) {
-    return g.col(std::asin(std::clamp(sin_theta, -1.0, 1.0)));
-  });
+  const double lo = std::max(std::min(a, b), -1.5), hi = std::min(std::max(a, b), 1.5);
+  return PixelTable(std::tan(lo), std::tan(hi),
+                    [&](double tan_theta) { return g.col(std::atan(tan_theta)); });
 }
 
 PixelTable rowTable(const sensor::ScanGeometry& g) {
@@ -154,7 +153,7 @@ class LocusSolver {
   double samplingSigma(int quad_row, int quad_col) const;
   bool isSteepFace(int quad_row, int quad_col) const;
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
-  double columnOf(double sin_theta) const;
+  double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
 
   const RangeImage& image_;
@@ -174,7 +173,7 @@ class LocusSolver {
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
   std::vector<double> sin_half_, cos_half_;
-  // Column as a function of sin(theta).
+  // Column as a function of tan(theta).
   PixelTable column_table_;
   // Row as a function of tan(phi - phi_mid), phi_mid the middle scanline:
   // the image spans less than 180 degrees about it.
@@ -232,12 +231,12 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
   }
 }
 
-// Linear interpolation in a table of 4096 intervals of sin(theta) over the
-// image's columns; kept only if it matches asin to 1e-4 pixel everywhere
+// Linear interpolation in a table of 4096 intervals of tan(theta) over the
+// image's columns; kept only if it matches atan to 1e-4 pixel everywhere
 // (it does unless the image reaches within a few degrees of theta = 90).
-double LocusSolver::columnOf(double sin_theta) const {
-  if (column_table_.empty()) return g_.col(std::asin(std::clamp(sin_theta, -1.0, 1.0)));
-  const double col = column_table_(sin_theta);
+double LocusSolver::columnOf(double tan_theta) const {
+  if (column_table_.empty()) return g_.col(std::atan(tan_theta));
+  const double col = column_table_(tan_theta);
   return std::isnan(col) ? -1e9 : col;  // NaN: off the image
 }
 
@@ -285,9 +284,12 @@ LocusPoint LocusSolver::pointAt(const Line& line, int row) const {
   if (!std::isfinite(inverse_den_[row])) return lp;
   lp.t = (line.a.y() * sin_phi - line.a.z() * cos_phi) * inverse_den_[row];
   const Eigen::Vector3d p = line.a + lp.t * line.b;
-  if (p.y() * cos_phi + p.z() * sin_phi <= 0) return lp;  // the opposite half-plane
+  // p's distance from the sensor's x axis, negative in the opposite
+  // half-plane; tan(theta) from it needs no square root.
+  const double across = p.y() * cos_phi + p.z() * sin_phi;
+  if (across <= 0) return lp;
   lp.rho = p.norm();
-  lp.col = columnOf(p.x() / lp.rho);
+  lp.col = columnOf(p.x() / across);
   lp.on_image = lp.col > -0.5 && lp.col < g_.cols - 0.5;
   return lp;
 }
