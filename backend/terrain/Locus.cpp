@@ -273,7 +273,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   const double excess = band.height() - explained;
   if (excess > 0) {
     result.z = 0.5 * (band.top + band.bottom);
-    result.sigma = std::hypot(result.sigma, excess / std::sqrt(12.0));
+    result.sigma = std::sqrt(result.sigma * result.sigma + excess * excess / 12);
   }
   return result;
 }
@@ -416,7 +416,7 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
   if (isSteepFace(quad_row, quad_col)) return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
-  return {CellState::kKnown, t, std::hypot(noise.sigma, sampling), noise};
+  return {CellState::kKnown, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
