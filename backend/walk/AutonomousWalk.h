@@ -67,7 +67,9 @@ struct WalkResult {
   int replans = 0;    // steps planned again after execution (concurrent mode)
   int rechecked = 0;  // steps kept after rechecking them on the real stance
   double wall_s = 0.0;
-  std::string stopped;  // why the walk ended early, empty when it did not
+  double ground_busy_s = 0.0;         // mapping and planning, wall time
+  double modelled_execution_s = 0.0;  // the rover's moves and scans, simulated time
+  std::string stopped;                // why the walk ended early, empty when it did not
   std::vector<WalkStep> log;
   std::vector<sim::SupportSample> trace;
 };
@@ -76,5 +78,11 @@ struct WalkResult {
 // -> leg recovery -> execute -> kinematic dead reckoning, on the obstacle
 // course of `options.seed`, `options.steps` times.
 WalkResult runWalk(const WalkConfig& config, const WalkOptions& options);
+
+// The time_scale that makes a walk's execution take 0.75 of its ground work,
+// the Ambler's ratio (cmu-1990 fig. 6), from a walk run with time_scale 0:
+// this computer plans far faster than the Ambler's did, so its execution is
+// scaled down by as much. 0 when the probe walked no step.
+double timeScaleOfTheReport(const WalkResult& probe);
 
 }  // namespace ambler::walk

@@ -48,6 +48,13 @@ TEST(Walk, SequentialModeWalksToo) {
   EXPECT_EQ(r.steps, 10) << r.stopped;
   EXPECT_EQ(r.replans, 0);
   EXPECT_EQ(r.csp_violations, 0);
+  // Every step's moves and scan are accounted for: 10 scans of 0.5 s at
+  // least, and ground work was timed.
+  EXPECT_GT(r.modelled_execution_s, 10 * 0.5);
+  EXPECT_GT(r.ground_busy_s, 0.0);
+  // Scaled to the Ambler's ratio, execution takes 0.75 of the ground's work.
+  EXPECT_NEAR(timeScaleOfTheReport(r) * r.modelled_execution_s, 0.75 * r.ground_busy_s, 1e-12);
+  EXPECT_EQ(timeScaleOfTheReport(WalkResult{}), 0.0);
 }
 
 TEST(Walk, SlipsAreFoundByDeadReckoning) {
