@@ -381,6 +381,38 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   return plan;
 }
 
+StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
+                              const terrain::ElevationMap& map, const GaitContext& ctx, int leg,
+                              const Eigen::Vector2d& foothold_xy) {
+  const auto& m = ctx.model;
+  StepPlan plan;
+  plan.leg = leg;
+  // Where the map knows no ground the foot is assumed level with where it
+  // stands; the foothold-terrain interlock refuses such a step anyway.
+  double z = soleHeight(map, foothold_xy, 0.5 * m.foot_diameter_m);
+  if (!std::isfinite(z)) z = stance.feet[std::size_t(leg)].z();
+  plan.foothold = {foothold_xy.x(), foothold_xy.y(), z};
+  Stance placed = stance;
+  placed.feet[std::size_t(leg)] = plan.foothold;
+  placed.body.link_z = linkHeightFor(placed, m);
+  plan.after_leg = plan.after = placed;
+  plan.min_csp_margin =
+      std::min(marginWithout(stance, m, leg), checkStance(placed, m, 0.0).csp_margin_m);
+  plan.recovery = planLegRecovery(m, stance, leg, plan.foothold, clearanceFrom(map), ctx.recovery);
+  if (!plan.recovery.found) {
+    plan.reason = "no collision-free leg recovery to that foothold";
+    return plan;
+  }
+  const FreeMove move = bodyMoveKeepingALegFree(placed, heading, ctx);
+  plan.body_u = std::max(move.u, 0.0);
+  plan.after = moveBody(placed, heading, plan.body_u);
+  plan.min_csp_margin = std::min(plan.min_csp_margin, checkStance(plan.after, m, 0.0).csp_margin_m);
+  plan.reason = move.u < 0 ? "no leg could lift after any body move"
+                           : "body stopped by " + constraintName(move.stopped_by);
+  plan.ok = true;
+  return plan;
+}
+
 std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned_from,
                                      const Stance& actual, const Heading& heading,
                                      const GaitContext& ctx) {

@@ -77,6 +77,14 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
                   const GaitContext& context,
                   const std::optional<footfall::ScannerView>& scanner = std::nullopt);
 
+// The step with `leg`'s foot set down at `foothold_xy` (an operator's edit):
+// the recovery and body move planStep would make for that placement,
+// without its search. Not ok, with the reason, when the leg cannot get
+// there; whether the placement is safe is for the interlocks to judge.
+StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
+                              const terrain::ElevationMap& map, const GaitContext& context, int leg,
+                              const Eigen::Vector2d& foothold_xy);
+
 // A step planned from `planned_from`, moved onto the stance the rover is
 // really in (`actual`, a few centimetres off after slips and execution
 // errors): the leg and body moves keep their joint-space and body-frame

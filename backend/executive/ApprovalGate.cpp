@@ -1,0 +1,81 @@
+#include "executive/ApprovalGate.h"
+
+#include <nlohmann/json.hpp>
+
+namespace ambler::executive {
+
+StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::StepPlan plan,
+                          const terrain::ElevationMap& map, const gait::GaitContext& context) {
+  StepProposal p{id, from, std::move(plan), {}, {}};
+  p.commands = stepCommands(p.plan, from);
+  p.interlocks = checkInterlocks(p.plan, from, p.commands, map, context);
+  return p;
+}
+
+std::string describe(const StepProposal& p) {
+  nlohmann::json j = {
+      {"proposal", p.id},
+      {"leg", p.plan.leg},
+      {"body_advance", p.plan.body_u},
+      {"min_csp_margin_m", p.plan.min_csp_margin},
+      {"interlocks", p.interlocks.passed() ? "passed" : p.interlocks.firstFailure()}};
+  if (p.plan.leg >= 0)
+    j["foothold_m"] = {p.plan.foothold.x(), p.plan.foothold.y(), p.plan.foothold.z()};
+  return j.dump();
+}
+
+void ApprovalGate::propose(StepProposal proposal, double now_s) {
+  pending_ = std::move(proposal);
+  if (mode_ == ApprovalMode::kAutoApprove && pending_->interlocks.passed())
+    approve(pending_->id, kAutoApprover, now_s);
+}
+
+std::string ApprovalGate::checkPending(std::uint64_t id) const {
+  if (!pending_) return "no step is waiting for a decision";
+  if (pending_->id != id)
+    return "step " + std::to_string(id) + " is not the one waiting (step " +
+           std::to_string(pending_->id) + " is)";
+  return {};
+}
+
+std::string ApprovalGate::approve(std::uint64_t id, const std::string& operator_id, double now_s) {
+  if (auto problem = checkPending(id); !problem.empty()) return problem;
+  if (!pending_->interlocks.passed())
+    return "interlock failed, the step cannot be sent: " + pending_->interlocks.firstFailure();
+  decide(missionlog::Verdict::kApproved, operator_id, now_s, id, describe(*pending_));
+  released_ = std::move(pending_);
+  pending_.reset();
+  return {};
+}
+
+std::string ApprovalGate::reject(std::uint64_t id, const std::string& operator_id, double now_s,
+                                 const std::string& reason) {
+  if (auto problem = checkPending(id); !problem.empty()) return problem;
+  auto detail = nlohmann::json::parse(describe(*pending_));
+  detail["reason"] = reason;
+  decide(missionlog::Verdict::kRejected, operator_id, now_s, id, detail.dump());
+  pending_.reset();
+  return {};
+}
+
+std::string ApprovalGate::edit(std::uint64_t id, const std::string& operator_id, double now_s,
+                               StepProposal edited) {
+  if (auto problem = checkPending(id); !problem.empty()) return problem;
+  edited.id = id;
+  decide(missionlog::Verdict::kEdited, operator_id, now_s, id, describe(edited));
+  pending_ = std::move(edited);
+  return {};
+}
+
+std::optional<StepProposal> ApprovalGate::takeReleased() {
+  auto out = std::move(released_);
+  released_.reset();
+  return out;
+}
+
+void ApprovalGate::decide(missionlog::Verdict verdict, const std::string& operator_id, double now_s,
+                          std::uint64_t id, const std::string& detail) {
+  if (sink_) sink_({now_s, operator_id, id, verdict, detail});
+}
+
+}  // namespace ambler::executive

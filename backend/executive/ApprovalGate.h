@@ -1,0 +1,75 @@
+#pragma once
+
+// Every proposed move waits here for the operator: approve, edit the
+// foothold, or reject (issue 6). An explicit auto-approve mode releases
+// proposals without a person, but only those whose interlocks pass; a
+// proposal that fails them is never released, whoever approves it. Every
+// decision goes to the mission log with who, when and what.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "executive/Interlocks.h"
+#include "missionlog/MissionLog.h"
+
+namespace ambler::executive {
+
+struct StepProposal {
+  std::uint64_t id = 0;
+  gait::Stance from;
+  gait::StepPlan plan;
+  std::vector<link::CommandBody> commands;
+  InterlockReport interlocks;
+};
+
+// The proposal for `plan` from `from`: its commands and their interlocks.
+StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::StepPlan plan,
+                          const terrain::ElevationMap& map, const gait::GaitContext& context);
+
+// What the log keeps of a proposal: leg, foothold, body move, least
+// margin and the interlocks' verdict, as JSON.
+std::string describe(const StepProposal& proposal);
+
+enum class ApprovalMode { kOperator, kAutoApprove };
+
+inline const std::string kAutoApprover = "auto-approve";
+
+class ApprovalGate {
+ public:
+  using DecisionSink = std::function<void(const missionlog::Decision&)>;
+  explicit ApprovalGate(DecisionSink sink = {}) : sink_(std::move(sink)) {}
+
+  void setMode(ApprovalMode mode) { mode_ = mode; }
+  ApprovalMode mode() const { return mode_; }
+
+  // Replaces any pending proposal (a replan supersedes the old one). In
+  // auto-approve mode one that passes its interlocks is released at once.
+  void propose(StepProposal proposal, double now_s);
+  const std::optional<StepProposal>& pending() const { return pending_; }
+
+  // Each returns an empty string when done, else why not (nothing pending
+  // with that id, or the interlocks fail).
+  std::string approve(std::uint64_t id, const std::string& operator_id, double now_s);
+  std::string reject(std::uint64_t id, const std::string& operator_id, double now_s,
+                     const std::string& reason);
+  // The operator moved the foothold; `edited` is the step replanned with
+  // it, interlocks checked again. It stays pending until approved.
+  std::string edit(std::uint64_t id, const std::string& operator_id, double now_s,
+                   StepProposal edited);
+
+  // The approved proposal, once, for sending.
+  std::optional<StepProposal> takeReleased();
+
+ private:
+  std::string checkPending(std::uint64_t id) const;
+  void decide(missionlog::Verdict verdict, const std::string& operator_id, double now_s,
+              std::uint64_t id, const std::string& detail);
+
+  DecisionSink sink_;
+  ApprovalMode mode_ = ApprovalMode::kOperator;
+  std::optional<StepProposal> pending_, released_;
+};
+
+}  // namespace ambler::executive

@@ -1,0 +1,263 @@
+#include "executive/WalkExecutive.h"
+
+#include <sstream>
+
+#include "terrain/Locus.h"
+#include "terrain/Merge.h"
+
+namespace ambler::executive {
+
+namespace {
+
+std::string metres(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << std::fixed << value << " m";
+  return s.str();
+}
+
+}  // namespace
+
+std::string phaseName(Phase phase) {
+  switch (phase) {
+    case Phase::kIdle:
+      return "idle";
+    case Phase::kScanning:
+      return "scanning";
+    case Phase::kAwaitingDecision:
+      return "awaiting decision";
+    case Phase::kExecuting:
+      return "executing";
+    case Phase::kSuspended:
+      return "suspended";
+    case Phase::kDone:
+      return "done";
+  }
+  return "?";
+}
+
+WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, ApprovalGate& gate,
+                             gait::GaitContext context, ExecutiveOptions options)
+    : link_(link),
+      signer_(signer),
+      gate_(gate),
+      ctx_(std::move(context)),
+      opt_(std::move(options)),
+      map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)) {}
+
+void WalkExecutive::start(double now_s) {
+  walk_task_ = tasks_.add(-1, TaskKind::kGoal, "walk " + std::to_string(opt_.steps) + " steps");
+  tasks_.start(walk_task_, now_s);
+  requestScan(now_s);
+}
+
+void WalkExecutive::resume(double now_s) {
+  if (phase_ != Phase::kSuspended) return;
+  note(now_s, "resumed: scanning and planning again from the reported state");
+  requestScan(now_s);
+}
+
+void WalkExecutive::note(double now_s, const std::string& what) {
+  events_.push_back({now_s, what});
+}
+
+std::uint64_t WalkExecutive::send(link::CommandBody body, double now_s) {
+  link::Command c;
+  c.rover_id = opt_.rover_id;
+  c.time_s = now_s;
+  c.body = std::move(body);
+  signer_.sign(c);
+  link_.send(c);
+  return c.sequence;
+}
+
+void WalkExecutive::requestScan(double now_s) {
+  const int previous = step_task_;
+  step_task_ = tasks_.add(
+      walk_task_, TaskKind::kGoal, "step " + std::to_string(steps_done_ + 1),
+      previous >= 0 && tasks_.task(previous).status == TaskStatus::kDone ? previous : -1);
+  tasks_.start(step_task_, now_s);
+  scan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "scan");
+  tasks_.start(scan_task_, now_s);
+  scan_.reset();
+  awaiting_ = send(link::AcquireScan{}, now_s);
+  sent_s_ = now_s;
+  phase_ = Phase::kScanning;
+}
+
+void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
+  for (const auto& message : link_.receive(wait)) handle(message, now_s);
+  if (phase_ == Phase::kDone || phase_ == Phase::kIdle) return;
+  if (awaiting_ && now_s - sent_s_ > opt_.ack_timeout_s) {
+    std::ostringstream why;
+    why << "no acknowledgement of command " << *awaiting_ << " within " << opt_.ack_timeout_s
+        << " s";
+    suspend(now_s, why.str(), true);
+    return;
+  }
+  if (phase_ == Phase::kScanning && scan_ && !awaiting_ && reported_) planAndPropose(now_s);
+  if (phase_ == Phase::kAwaitingDecision) {
+    if (auto released = gate_.takeReleased()) {
+      startExecuting(std::move(*released), now_s);
+    } else if (!gate_.pending()) {
+      tasks_.fail(approval_task_, now_s, "rejected");
+      suspend(now_s, "step rejected by the operator", false);
+    }
+  }
+  if (phase_ == Phase::kExecuting && move_acked_ && state_fresh_) afterMove(now_s);
+}
+
+void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
+  if (message.rover_id != opt_.rover_id) return;
+  if (const auto* s = std::get_if<link::LegState>(&message.body)) {
+    if (s->leg >= 0 && s->leg < gait::kLegCount) legs_[std::size_t(s->leg)] = *s;
+    updateReported();
+  } else if (const auto* b = std::get_if<link::BodyState>(&message.body)) {
+    body_ = *b;
+    state_fresh_ = true;  // the rover reports the body last
+    updateReported();
+  } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
+    onAck(*a, now_s);
+  } else if (const auto* image = std::get_if<sensor::RangeImage>(&message.body)) {
+    if (phase_ == Phase::kScanning) scan_ = *image;
+  }
+}
+
+void WalkExecutive::updateReported() {
+  if (!body_) return;
+  gait::Stance s;
+  s.body = {{body_->x_m, body_->y_m}, body_->heading_rad, body_->z_m};
+  for (int i = 0; i < gait::kLegCount; ++i) {
+    const auto& leg = legs_[std::size_t(i)];
+    if (!leg) return;
+    s.feet[std::size_t(i)] = s.body.toWorld(ctx_.model.footInBody(i, leg->joints));
+    s.supporting[std::size_t(i)] = leg->contact;
+  }
+  reported_ = s;
+}
+
+void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
+  if (!awaiting_ || ack.sequence != *awaiting_ || ack.operator_id != signer_.operatorId()) return;
+  awaiting_.reset();
+  const bool moving = phase_ == Phase::kExecuting;
+  const int task = moving ? command_tasks_[next_command_ - 1] : scan_task_;
+  if (!ack.accepted) {
+    tasks_.fail(task, now_s, ack.reason);
+    suspend(now_s, "rover refused " + tasks_.task(task).name + ": " + ack.reason, false);
+    return;
+  }
+  tasks_.finish(task, now_s);
+  if (moving) move_acked_ = true;
+}
+
+void WalkExecutive::planAndPropose(double now_s) {
+  terrain::mergeInto(map_, terrain::buildLocusMap(*scan_, map_.grid()));
+  scan_.reset();
+  plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
+  tasks_.start(plan_task_, now_s);
+  gait::StepPlan plan = gait::planStep(*reported_, opt_.heading, map_, ctx_);
+  if (!plan.ok) {
+    tasks_.fail(plan_task_, now_s, plan.reason);
+    suspend(now_s, "no step to propose: " + plan.reason, false);
+    return;
+  }
+  tasks_.finish(plan_task_, now_s);
+  approval_task_ = tasks_.add(step_task_, TaskKind::kApproval, "approval", plan_task_);
+  tasks_.start(approval_task_, now_s);
+  phase_ = Phase::kAwaitingDecision;
+  gate_.propose(makeProposal(next_proposal_++, *reported_, std::move(plan), map_, ctx_), now_s);
+}
+
+std::string WalkExecutive::editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
+                                        const std::string& operator_id, double now_s) {
+  const auto& pending = gate_.pending();
+  if (!pending || pending->id != proposal)
+    return "step " + std::to_string(proposal) + " is not waiting for a decision";
+  if (pending->plan.leg < 0) return "this step moves no leg, so it has no foothold to edit";
+  gait::StepPlan plan =
+      gait::planStepWithFoothold(pending->from, opt_.heading, map_, ctx_, pending->plan.leg, xy);
+  return gate_.edit(proposal, operator_id, now_s,
+                    makeProposal(proposal, pending->from, std::move(plan), map_, ctx_));
+}
+
+void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
+  tasks_.finish(approval_task_, now_s);
+  command_tasks_.clear();
+  int after = approval_task_;
+  for (const auto& c : proposal.commands) {
+    after = tasks_.add(step_task_, TaskKind::kCommand, link::typeName(c), after);
+    command_tasks_.push_back(after);
+  }
+  executing_ = std::move(proposal);
+  next_command_ = 0;
+  phase_ = Phase::kExecuting;
+  sendNext(now_s);
+}
+
+void WalkExecutive::sendNext(double now_s) {
+  tasks_.start(command_tasks_[next_command_], now_s);
+  move_acked_ = state_fresh_ = false;
+  awaiting_ = send(executing_->commands[next_command_], now_s);
+  sent_s_ = now_s;
+  ++next_command_;
+}
+
+// What the rover reports after a move, against the plan.
+void WalkExecutive::afterMove(double now_s) {
+  move_acked_ = state_fresh_ = false;
+  const auto& m = ctx_.model;
+  const double margin = gait::checkStance(*reported_, m, 0.0).csp_margin_m;
+  if (margin < 0) {
+    suspend(now_s, "centre of gravity " + metres(-margin) + " outside the support polygon", true);
+    return;
+  }
+  const auto& plan = executing_->plan;
+  const bool leg_move =
+      std::holds_alternative<link::LegMove>(executing_->commands[next_command_ - 1]);
+  if (leg_move) {
+    const double short_by = (reported_->feet[std::size_t(plan.leg)] - plan.foothold).norm();
+    if (short_by > opt_.early_contact_m) {
+      // The body has not moved: plan the step again from here, no new scan.
+      tasks_.suspend(step_task_, now_s, "early contact");
+      note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
+                      " from its foothold (early contact): replanning");
+      executing_.reset();
+      requestScan(now_s);
+      return;
+    }
+  } else {
+    const double off = (reported_->body.xy - plan.after.body.xy).norm();
+    if (off > opt_.off_plan_m)
+      note(now_s, "body " + metres(off) +
+                      " off its plan (slip): the next step starts from "
+                      "where the rover reports it is");
+  }
+  if (next_command_ < executing_->commands.size())
+    sendNext(now_s);
+  else
+    finishStep(now_s);
+}
+
+void WalkExecutive::finishStep(double now_s) {
+  tasks_.finish(step_task_, now_s);
+  executing_.reset();
+  ++steps_done_;
+  if (steps_done_ >= opt_.steps) {
+    tasks_.finish(walk_task_, now_s);
+    phase_ = Phase::kDone;
+    return;
+  }
+  requestScan(now_s);
+}
+
+void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
+  if (hold) send(link::Hold{}, now_s);  // not awaited: the rover stops whatever it hears next
+  note(now_s, (hold ? "Hold sent, step suspended: " : "step suspended: ") + why);
+  if (step_task_ >= 0 && tasks_.task(step_task_).status == TaskStatus::kActive)
+    tasks_.suspend(step_task_, now_s, why);
+  executing_.reset();
+  awaiting_.reset();
+  phase_ = Phase::kSuspended;
+}
+
+}  // namespace ambler::executive

@@ -1,0 +1,110 @@
+#pragma once
+
+// The ground's side of a walk over any link (cmu-1990 TCA, issue 6): for
+// each step it asks for a scan, maps it, plans the step, puts the proposal
+// before the approval gate, sends the approved moves signed, and checks
+// what the rover reports. A NACK, an unanswered command, a centre of
+// gravity outside the support polygon, a leg stopped short by early
+// contact, or a body off its plan (a slip) is an exception: the step is
+// suspended (after a Hold where the rover may be unsafe) or planned again.
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/Region.h"
+#include "executive/ApprovalGate.h"
+#include "executive/TaskTree.h"
+#include "link/Link.h"
+#include "link/Signing.h"
+
+namespace ambler::executive {
+
+struct ExecutiveOptions {
+  std::uint32_t rover_id = 1;
+  int steps = 5;
+  gait::Heading heading;          // straight ahead by default
+  double ack_timeout_s = 10.0;    // a command unanswered this long: Hold, suspend
+  double off_plan_m = 0.05;       // body or foot further than this from the plan: replan
+  double early_contact_m = 0.05;  // a foot this far short of its last waypoint
+  Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
+  double map_resolution_m = 0.1;
+};
+
+enum class Phase { kIdle, kScanning, kAwaitingDecision, kExecuting, kSuspended, kDone };
+std::string phaseName(Phase phase);
+
+struct ExecutiveEvent {
+  double time_s = 0.0;
+  std::string what;
+};
+
+class WalkExecutive {
+ public:
+  WalkExecutive(link::Link& link, link::CommandSigner& signer, ApprovalGate& gate,
+                gait::GaitContext context, ExecutiveOptions options = {});
+
+  // The walk goal: asks for a first scan.
+  void start(double now_s);
+  // Reads what arrived (waiting up to `wait`), reacts, and sends what the
+  // gate released. Call it often.
+  void poll(double now_s, std::chrono::milliseconds wait);
+  // The operator moved the pending step's foothold: the step is planned
+  // again with it and its interlocks checked; it stays pending.
+  std::string editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
+                           const std::string& operator_id, double now_s);
+  // After a suspension or a rejection: scan and plan again from where the
+  // rover reports it is.
+  void resume(double now_s);
+
+  Phase phase() const { return phase_; }
+  int stepsDone() const { return steps_done_; }
+  const TaskTree& tasks() const { return tasks_; }
+  const std::vector<ExecutiveEvent>& events() const { return events_; }
+  const std::optional<gait::Stance>& reported() const { return reported_; }
+  const terrain::ElevationMap& map() const { return map_; }
+
+ private:
+  void handle(const link::Telemetry& message, double now_s);
+  void onAck(const link::CommandAck& ack, double now_s);
+  void updateReported();
+  void requestScan(double now_s);
+  void planAndPropose(double now_s);
+  void startExecuting(StepProposal proposal, double now_s);
+  void sendNext(double now_s);
+  void afterMove(double now_s);
+  void finishStep(double now_s);
+  void suspend(double now_s, const std::string& why, bool hold);
+  void note(double now_s, const std::string& what);
+  std::uint64_t send(link::CommandBody body, double now_s);
+
+  link::Link& link_;
+  link::CommandSigner& signer_;
+  ApprovalGate& gate_;
+  gait::GaitContext ctx_;
+  ExecutiveOptions opt_;
+  terrain::ElevationMap map_;
+  TaskTree tasks_;
+  std::vector<ExecutiveEvent> events_;
+  Phase phase_ = Phase::kIdle;
+  int steps_done_ = 0;
+  std::uint64_t next_proposal_ = 1;
+  // Where the rover reports its legs and body; filled by the state
+  // telemetry that follows every move.
+  std::array<std::optional<link::LegState>, gait::kLegCount> legs_{};
+  std::optional<link::BodyState> body_;
+  std::optional<gait::Stance> reported_;
+  // The step being carried out: its commands, the next to send, the one
+  // awaiting its acknowledgement and since when.
+  std::optional<StepProposal> executing_;
+  std::size_t next_command_ = 0;
+  std::optional<std::uint64_t> awaiting_;
+  double sent_s_ = 0.0;
+  bool move_acked_ = false, state_fresh_ = false;
+  std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
+  int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;
+  std::vector<int> command_tasks_;
+};
+
+}  // namespace ambler::executive

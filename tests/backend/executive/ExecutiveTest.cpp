@@ -1,0 +1,261 @@
+#include <gtest/gtest.h>
+
+#include "core/Resources.h"
+#include "executive/WalkExecutive.h"
+#include "rover/InProcessLink.h"
+
+namespace ambler::executive {
+namespace {
+
+using namespace std::chrono_literals;
+
+const walk::WalkConfig& config() {
+  static const walk::WalkConfig c =
+      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                           findResource("config/rover-scanner.json"));
+  return c;
+}
+
+link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
+
+// The in-process simulator, counting what the console sends.
+class CountingLink : public link::Link {
+ public:
+  CountingLink() : inner_(config(), options(), 200ms) {}
+  void send(const link::Command& c) override {
+    sent.push_back(link::typeName(c.body));
+    inner_.send(c);
+  }
+  std::vector<link::Telemetry> receive(std::chrono::milliseconds t) override {
+    return inner_.receive(t);
+  }
+  std::string describe() const override { return inner_.describe(); }
+  int count(const std::string& type) const {
+    return int(std::count(sent.begin(), sent.end(), type));
+  }
+  std::vector<std::string> sent;
+
+ private:
+  static rover::SimulatedRoverOptions options() {
+    rover::SimulatedRoverOptions o;
+    o.operators = {alice()};
+    return o;
+  }
+  rover::InProcessLink inner_;
+};
+
+struct Console {
+  CountingLink link;
+  link::CommandSigner signer{alice()};
+  std::vector<missionlog::Decision> decisions;
+  ApprovalGate gate{[this](const missionlog::Decision& d) { decisions.push_back(d); }};
+  WalkExecutive executive;
+  double now = 0.0;
+
+  explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = config().gait)
+      : executive(link, signer, gate, std::move(ctx), o) {}
+
+  // Polls until `done` or the rover has had 200 polls to answer.
+  template <typename F>
+  void pollUntil(F done) {
+    for (int i = 0; i < 200 && !done(); ++i) executive.poll(now += 0.05, 20ms);
+  }
+  void untilDecisionNeeded() {
+    pollUntil([&] { return executive.phase() == Phase::kAwaitingDecision; });
+    ASSERT_EQ(executive.phase(), Phase::kAwaitingDecision);
+    ASSERT_TRUE(gate.pending());
+  }
+};
+
+ExecutiveOptions steps(int n) {
+  ExecutiveOptions o;
+  o.steps = n;
+  return o;
+}
+
+TEST(Executive, APlannedStepPassesEveryInterlock) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const auto& report = c.gate.pending()->interlocks;
+  EXPECT_TRUE(report.passed()) << report.firstFailure();
+  ASSERT_EQ(report.checks.size(), 5u);
+  for (const auto& check : report.checks) EXPECT_FALSE(check.detail.empty()) << check.name;
+  EXPECT_EQ(c.link.sent, std::vector<std::string>{"AcquireScan"});
+}
+
+TEST(Executive, ARejectedStepSendsNothing) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const auto id = c.gate.pending()->id;
+  EXPECT_EQ(c.gate.reject(id, "alice", c.now, "foot too near the box"), "");
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  EXPECT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(c.link.count("LegMove") + c.link.count("BodyMove"), 0);
+  ASSERT_EQ(c.decisions.size(), 1u);
+  EXPECT_EQ(c.decisions[0].verdict, missionlog::Verdict::kRejected);
+  EXPECT_EQ(c.decisions[0].operator_id, "alice");
+  EXPECT_NE(c.decisions[0].detail.find("foot too near the box"), std::string::npos);
+}
+
+TEST(Executive, AnApprovedStepMovesTheRover) {
+  Console c(steps(1));
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const double y0 = c.executive.reported()->body.xy.y();
+  const auto plan = c.gate.pending()->plan;
+  EXPECT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone);
+  EXPECT_EQ(c.executive.stepsDone(), 1);
+  // Forward is +y; the rover goes where the plan said, within execution noise.
+  EXPECT_NEAR(c.executive.reported()->body.xy.y() - y0, plan.after.body.xy.y() - y0, 0.05);
+  EXPECT_GT(plan.body_u, 0.1);
+  EXPECT_EQ(c.link.count("LegMove"), plan.leg >= 0 ? 1 : 0);
+  EXPECT_EQ(c.link.count("BodyMove"), 1);
+  // The task tree: the walk, its step, and the step's scan, plan, approval
+  // and moves, each done, each after the one before.
+  const auto& tasks = c.executive.tasks();
+  for (const auto& t : tasks.tasks()) {
+    EXPECT_EQ(t.status, TaskStatus::kDone) << t.name;
+    if (t.after >= 0) {
+      EXPECT_LE(tasks.task(t.after).ended_s, t.started_s) << t.name;
+    }
+  }
+}
+
+TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
+  Console c(steps(5));
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  // The first steps may move the body only: approve until a leg moves.
+  for (int i = 0; i < 4 && c.gate.pending()->plan.leg < 0; ++i) {
+    ASSERT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+    c.pollUntil([&] { return c.gate.pending().has_value(); });
+    c.untilDecisionNeeded();
+  }
+  c.decisions.clear();
+  const int moves_before = c.link.count("LegMove") + c.link.count("BodyMove");
+  const auto id = c.gate.pending()->id;
+  ASSERT_GE(c.gate.pending()->plan.leg, 0);
+  const Eigen::Vector2d planned = c.gate.pending()->plan.foothold.head<2>();
+  // Far outside anything scanned: unknown ground, and out of reach.
+  EXPECT_EQ(c.executive.editFoothold(id, {30.0, 40.0}, "alice", c.now), "");
+  const auto& edited = *c.gate.pending();
+  EXPECT_FALSE(edited.interlocks.passed());
+  EXPECT_NE(edited.interlocks.firstFailure(), "");
+  const auto failed = [&](const std::string& name) {
+    for (const auto& check : edited.interlocks.checks)
+      if (check.name == name) return !check.passed;
+    return false;
+  };
+  EXPECT_TRUE(failed("foothold terrain"));
+  EXPECT_TRUE(failed("reach"));
+  EXPECT_NE(c.gate.approve(id, "alice", c.now).find("interlock"), std::string::npos);
+  c.executive.poll(c.now += 0.05, 20ms);
+  EXPECT_EQ(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
+  ASSERT_EQ(c.decisions.size(), 1u);
+  EXPECT_EQ(c.decisions[0].verdict, missionlog::Verdict::kEdited);
+  // Back to the planner's foothold: every interlock passes again.
+  EXPECT_EQ(c.executive.editFoothold(id, planned, "alice", c.now), "");
+  EXPECT_TRUE(c.gate.pending()->interlocks.passed()) << c.gate.pending()->interlocks.firstFailure();
+  EXPECT_EQ(c.gate.approve(id, "alice", c.now), "");
+  c.pollUntil([&] { return c.link.count("LegMove") + c.link.count("BodyMove") > moves_before; });
+  EXPECT_GT(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
+}
+
+TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
+  Console c(steps(3));
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone)
+      << (c.gate.pending()
+              ? c.gate.pending()->interlocks.firstFailure() + " " + describe(*c.gate.pending())
+              : "");
+  EXPECT_EQ(c.executive.stepsDone(), 3);
+  ASSERT_EQ(c.decisions.size(), 3u);
+  for (const auto& d : c.decisions) EXPECT_EQ(d.operator_id, kAutoApprover);
+
+  // A proposal that fails an interlock (here a CSP margin no stance can
+  // keep) is not released, even automatically.
+  Console d(steps(3));
+  d.executive.start(d.now);
+  d.untilDecisionNeeded();
+  gait::GaitContext strict = config().gait;
+  strict.gait.csp_margin_m = 10.0;
+  const StepProposal& planned = *d.gate.pending();
+  StepProposal p = makeProposal(planned.id, planned.from, planned.plan, d.executive.map(), strict);
+  EXPECT_NE(p.interlocks.firstFailure().find("stability"), std::string::npos);
+  d.gate.setMode(ApprovalMode::kAutoApprove);
+  d.gate.propose(p, d.now);
+  d.executive.poll(d.now += 0.05, 20ms);
+  EXPECT_EQ(d.link.count("LegMove") + d.link.count("BodyMove"), 0);
+  EXPECT_EQ(d.executive.phase(), Phase::kAwaitingDecision);
+  EXPECT_TRUE(d.gate.pending());
+}
+
+TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
+  CountingLink link;
+  link::CommandSigner mallory({"mallory", std::vector<std::uint8_t>(32, 9)});
+  ApprovalGate gate;
+  WalkExecutive executive(link, mallory, gate, config().gait);
+  executive.start(0.0);
+  double now = 0.0;
+  for (int i = 0; i < 100 && executive.phase() != Phase::kSuspended; ++i)
+    executive.poll(now += 0.05, 20ms);
+  ASSERT_EQ(executive.phase(), Phase::kSuspended);
+  ASSERT_FALSE(executive.events().empty());
+  EXPECT_NE(executive.events().back().what.find("refused scan"), std::string::npos)
+      << executive.events().back().what;
+  EXPECT_NE(executive.events().back().what.find("mallory"), std::string::npos);
+}
+
+// A rover that never answers.
+class SilentLink : public link::Link {
+ public:
+  void send(const link::Command& c) override { sent.push_back(link::typeName(c.body)); }
+  std::vector<link::Telemetry> receive(std::chrono::milliseconds) override { return {}; }
+  std::string describe() const override { return "silence"; }
+  std::vector<std::string> sent;
+};
+
+TEST(Executive, AnUnansweredCommandSendsHoldAndSuspends) {
+  SilentLink link;
+  link::CommandSigner signer(alice());
+  ApprovalGate gate;
+  ExecutiveOptions o;
+  o.ack_timeout_s = 2.0;
+  WalkExecutive executive(link, signer, gate, config().gait, o);
+  executive.start(0.0);
+  executive.poll(1.0, 0ms);
+  EXPECT_EQ(executive.phase(), Phase::kScanning);
+  executive.poll(2.5, 0ms);
+  EXPECT_EQ(executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(link.sent, (std::vector<std::string>{"AcquireScan", "Hold"}));
+  EXPECT_NE(executive.events().back().what.find("within 2 s"), std::string::npos);
+}
+
+TEST(TaskTree, TasksStartInOrderAndSuspendTogether) {
+  TaskTree t;
+  const int walk = t.add(-1, TaskKind::kGoal, "walk");
+  const int scan = t.add(walk, TaskKind::kQuery, "scan");
+  const int plan = t.add(walk, TaskKind::kQuery, "plan", scan);
+  EXPECT_FALSE(t.canStart(scan));  // its parent has not started
+  t.start(walk, 0.0);
+  t.start(scan, 1.0);
+  EXPECT_FALSE(t.canStart(plan));
+  EXPECT_THROW(t.start(plan, 1.5), std::logic_error);
+  t.finish(scan, 2.0);
+  t.start(plan, 2.0);
+  t.suspend(walk, 3.0, "operator");
+  EXPECT_EQ(t.task(plan).status, TaskStatus::kSuspended);
+  EXPECT_EQ(t.task(plan).note, "operator");
+  EXPECT_EQ(t.task(scan).status, TaskStatus::kDone);
+  EXPECT_THROW(t.finish(plan, 4.0), std::logic_error);
+  EXPECT_EQ(t.children(walk), (std::vector<int>{scan, plan}));
+}
+
+}  // namespace
+}  // namespace ambler::executive
