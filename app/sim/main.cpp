@@ -25,6 +25,7 @@ struct Args {
   std::uint64_t seed = 1;
   std::string keys;
   int heartbeat_ms = 1000;
+  double link_timeout_s = 3.0;
   double duration_s = 0.0;
 };
 
@@ -36,6 +37,7 @@ void run(const Args& a) {
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
   options.seed = a.seed;
+  options.link_timeout_s = a.link_timeout_s;
   if (!a.keys.empty()) options.operators = link::readOperatorKeys(a.keys);
   rover::SimulatedRover rover(config, options);
   link::dds::RoverEndpoint endpoint(a.domain, a.rover_id);
@@ -64,6 +66,7 @@ void run(const Args& a) {
                               {"domain", a.domain},
                               {"rover_id", a.rover_id},
                               {"seed", a.seed},
+                              {"link_timeout_s", a.link_timeout_s},
                               {"operators", options.operators.size()}}
             << std::endl;
   rover::runRoverLoop(rover, std::chrono::milliseconds(a.heartbeat_ms), io);
@@ -92,6 +95,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--heartbeat-ms", a.heartbeat_ms, "heartbeat period [ms]")
       ->check(CLI::Range(10, 60000))
+      ->capture_default_str();
+  app.add_option("--link-timeout", a.link_timeout_s,
+                 "hold (refuse motion until Resume) when no signed command or GroundHeartbeat has "
+                 "come for this long [s]; 0: never")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   app.add_option("--duration", a.duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)")
       ->check(CLI::Range(0.0, 1e6))

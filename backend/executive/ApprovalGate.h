@@ -59,6 +59,10 @@ class ApprovalGate {
   std::string edit(std::uint64_t id, const std::string& operator_id, double now_s,
                    StepProposal edited);
 
+  // The step was suspended: what is pending or approved but not yet sent
+  // was planned for a state that no longer holds.
+  void withdraw() { pending_.reset(), released_.reset(); }
+
   // The approved proposal, once, for sending.
   std::optional<StepProposal> takeReleased();
 

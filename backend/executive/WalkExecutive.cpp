@@ -53,6 +53,9 @@ void WalkExecutive::start(double now_s) {
 
 void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
+  // Harmless when the rover does not hold; not awaited, as the scan that
+  // follows is acknowledged after it.
+  send(link::Resume{}, now_s);
   note(now_s, "resumed: scanning and planning again from the reported state");
   requestScan(now_s);
 }
@@ -68,6 +71,7 @@ std::uint64_t WalkExecutive::send(link::CommandBody body, double now_s) {
   c.body = std::move(body);
   signer_.sign(c);
   link_.send(c);
+  last_sent_s_ = now_s;
   return c.sequence;
 }
 
@@ -87,7 +91,10 @@ void WalkExecutive::requestScan(double now_s) {
 
 void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   for (const auto& message : link_.receive(wait)) handle(message, now_s);
-  if (phase_ == Phase::kDone || phase_ == Phase::kIdle) return;
+  if (phase_ == Phase::kIdle) return;
+  // Even when done or suspended: the rover holds when the ground falls silent.
+  if (now_s - last_sent_s_ >= opt_.heartbeat_period_s) send(link::GroundHeartbeat{}, now_s);
+  if (phase_ == Phase::kDone) return;
   if (awaiting_ && now_s - sent_s_ > opt_.ack_timeout_s) {
     std::ostringstream why;
     why << "no acknowledgement of command " << *awaiting_ << " within " << opt_.ack_timeout_s
@@ -118,6 +125,8 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
     updateReported();
   } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
     onAck(*a, now_s);
+  } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
+    onRoverHeartbeat(*h, now_s);
   } else if (const auto* image = std::get_if<sensor::RangeImage>(&message.body)) {
     if (phase_ == Phase::kScanning) scan_ = *image;
   }
@@ -136,8 +145,28 @@ void WalkExecutive::updateReported() {
   reported_ = s;
 }
 
+// A hold the executive did not ask for (link loss, or another console's
+// Hold) stops the step; the operator decides when to resume.
+void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s) {
+  if (heartbeat.hold_reason == rover_holding_) return;
+  rover_holding_ = heartbeat.hold_reason;
+  if (!heartbeat.holding) {
+    note(now_s, "rover no longer holds");
+    return;
+  }
+  note(now_s, "rover holds: " + rover_holding_);
+  if (phase_ != Phase::kSuspended && phase_ != Phase::kDone)
+    suspend(now_s, "rover holds: " + rover_holding_, false);
+}
+
 void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
-  if (!awaiting_ || ack.sequence != *awaiting_ || ack.operator_id != signer_.operatorId()) return;
+  if (ack.operator_id != signer_.operatorId()) return;
+  if (!awaiting_ || ack.sequence != *awaiting_) {
+    // Heartbeats and Resume are not awaited; only their refusals come back.
+    if (!ack.accepted)
+      note(now_s, "rover refused command " + std::to_string(ack.sequence) + ": " + ack.reason);
+    return;
+  }
   awaiting_.reset();
   const bool moving = phase_ == Phase::kExecuting;
   const int task = moving ? command_tasks_[next_command_ - 1] : scan_task_;
@@ -257,6 +286,7 @@ void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
     tasks_.suspend(step_task_, now_s, why);
   executing_.reset();
   awaiting_.reset();
+  gate_.withdraw();
   phase_ = Phase::kSuspended;
 }
 

@@ -30,6 +30,9 @@ struct ExecutiveOptions {
   double early_contact_m = 0.05;  // a foot this far short of its last waypoint
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
+  // A GroundHeartbeat goes out when nothing else has for this long; keep it
+  // well under the rover's link timeout.
+  double heartbeat_period_s = 1.0;
 };
 
 enum class Phase { kIdle, kScanning, kAwaitingDecision, kExecuting, kSuspended, kDone };
@@ -54,8 +57,8 @@ class WalkExecutive {
   // again with it and its interlocks checked; it stays pending.
   std::string editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
                            const std::string& operator_id, double now_s);
-  // After a suspension or a rejection: scan and plan again from where the
-  // rover reports it is.
+  // After a suspension or a rejection: end the rover's hold if it holds,
+  // then scan and plan again from where the rover reports it is.
   void resume(double now_s);
 
   Phase phase() const { return phase_; }
@@ -64,10 +67,13 @@ class WalkExecutive {
   const std::vector<ExecutiveEvent>& events() const { return events_; }
   const std::optional<gait::Stance>& reported() const { return reported_; }
   const terrain::ElevationMap& map() const { return map_; }
+  // Why the rover last said it holds; empty when it does not.
+  const std::string& roverHolding() const { return rover_holding_; }
 
  private:
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double now_s);
+  void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
   void updateReported();
   void requestScan(double now_s);
   void planAndPropose(double now_s);
@@ -101,6 +107,8 @@ class WalkExecutive {
   std::size_t next_command_ = 0;
   std::optional<std::uint64_t> awaiting_;
   double sent_s_ = 0.0;
+  double last_sent_s_ = -1e300;  // any command, heartbeats included
+  std::string rover_holding_;
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;

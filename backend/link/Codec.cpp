@@ -11,7 +11,7 @@ namespace ambler::link {
 namespace {
 
 constexpr std::uint8_t kMagic[4] = {'A', 'M', 'B', 'L'};
-constexpr std::uint8_t kVersion = 1;
+constexpr std::uint8_t kVersion = 2;  // 2: heartbeat holding, GroundHeartbeat, Resume
 constexpr std::uint8_t kTelemetryKind = 0, kCommandKind = 1;
 constexpr std::size_t kMaxText = 256;        // operator ids, reasons
 constexpr std::size_t kMaxWaypoints = 64;    // per leg move
@@ -139,7 +139,7 @@ int getLeg(Reader& r) {
 
 // ---- bodies ----
 
-void put(Writer& w, const Heartbeat& m) { w.put(m.count); }
+void put(Writer& w, const Heartbeat& m) { w.put(m.count), w.put(m.holding), w.put(m.hold_reason); }
 void put(Writer& w, const LegState& m) {
   w.put(std::uint8_t(m.leg)), putJoints(w, m.joints), w.put(m.contact);
 }
@@ -173,13 +173,19 @@ void put(Writer& w, const Grasp& m) {
 }
 void put(Writer&, const AcquireScan&) {}
 void put(Writer&, const Hold&) {}
+void put(Writer&, const GroundHeartbeat&) {}
+void put(Writer&, const Resume&) {}
 
 template <typename T>
 T get(Reader& r);
 
 template <>
 Heartbeat get(Reader& r) {
-  return {r.get<std::uint64_t>("heartbeat count")};
+  Heartbeat m;
+  m.count = r.get<std::uint64_t>("heartbeat count");
+  m.holding = r.getBool("holding");
+  m.hold_reason = r.getText("hold reason");
+  return m;
 }
 template <>
 LegState get(Reader& r) {
@@ -264,6 +270,14 @@ template <>
 Hold get(Reader&) {
   return {};
 }
+template <>
+GroundHeartbeat get(Reader&) {
+  return {};
+}
+template <>
+Resume get(Reader&) {
+  return {};
+}
 
 // The variant alternative with index `type`, read from `r`.
 template <typename Variant, std::size_t I = 0>
@@ -341,7 +355,8 @@ std::string typeName(const TelemetryBody& body) {
 }
 
 std::string typeName(const CommandBody& body) {
-  static const char* names[] = {"LegMove", "BodyMove", "Grasp", "AcquireScan", "Hold"};
+  static const char* names[] = {"LegMove", "BodyMove",        "Grasp", "AcquireScan",
+                                "Hold",    "GroundHeartbeat", "Resume"};
   static_assert(std::size(names) == std::variant_size_v<CommandBody>);
   return names[body.index()];
 }

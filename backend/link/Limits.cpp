@@ -54,6 +54,10 @@ std::string check(const AcquireScan&, const gait::RoverModel&, const gait::GaitO
   return {};
 }
 std::string check(const Hold&, const gait::RoverModel&, const gait::GaitOptions&) { return {}; }
+std::string check(const GroundHeartbeat&, const gait::RoverModel&, const gait::GaitOptions&) {
+  return {};
+}
+std::string check(const Resume&, const gait::RoverModel&, const gait::GaitOptions&) { return {}; }
 
 }  // namespace
 

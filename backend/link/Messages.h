@@ -18,8 +18,13 @@ namespace ambler::link {
 
 // ---- telemetry (rover -> ground) ----
 
+// The rover is alive, and whether it holds: after a Hold command, or on
+// its own when the ground fell silent (link loss), it refuses every motion
+// until a Resume.
 struct Heartbeat {
   std::uint64_t count = 0;
+  bool holding = false;
+  std::string hold_reason;  // empty unless holding
 };
 
 // One leg as its encoders and force sensor report it.
@@ -77,10 +82,19 @@ struct Grasp {
 
 struct AcquireScan {};
 
-// Stop every motion now and stay still.
+// Stop every motion now and stay still until a Resume.
 struct Hold {};
 
-using CommandBody = std::variant<LegMove, BodyMove, Grasp, AcquireScan, Hold>;
+// The console is alive (signed like every command, so a watching console
+// cannot keep the rover going for a commanding one that died). Only
+// refusals are acknowledged.
+struct GroundHeartbeat {};
+
+// End a hold; motion commands are accepted again.
+struct Resume {};
+
+using CommandBody =
+    std::variant<LegMove, BodyMove, Grasp, AcquireScan, Hold, GroundHeartbeat, Resume>;
 
 using Hmac = std::array<std::uint8_t, 32>;
 

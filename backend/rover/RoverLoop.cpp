@@ -1,5 +1,7 @@
 #include "rover/RoverLoop.h"
 
+#include <algorithm>
+
 namespace ambler::rover {
 
 void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_period,
@@ -10,14 +12,16 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
   for (const auto& t : rover.state(now_s())) io.publish(t);
   auto next_heartbeat = Clock::now();
   while (!io.stopping()) {
-    const auto wait = std::max(
+    // Short waits, so that the link watchdog holds soon after its timeout.
+    const auto wait = std::clamp(
         std::chrono::duration_cast<std::chrono::milliseconds>(next_heartbeat - Clock::now()),
-        std::chrono::milliseconds(0));
+        std::chrono::milliseconds(0), std::chrono::milliseconds(50));
     for (const auto& in : io.receive(wait)) {
       const auto out = in.malformed.empty() ? rover.handle(in.command, now_s())
                                             : rover.refuse(in.command, in.malformed, now_s());
       for (const auto& t : out) io.publish(t);
     }
+    for (const auto& t : rover.watchLink(now_s())) io.publish(t);
     if (Clock::now() >= next_heartbeat) {
       io.publish(rover.heartbeat(now_s()));
       next_heartbeat += heartbeat_period;

@@ -2,7 +2,8 @@
 
 // The rover's loop, whatever carries its messages: the full state once,
 // then each command as it comes (a NACK for one that arrived malformed),
-// and a heartbeat whenever a period passes.
+// a heartbeat whenever a period passes, and a hold when the ground falls
+// silent for longer than the rover's link timeout.
 
 #include <chrono>
 #include <functional>

@@ -1,5 +1,7 @@
 #include "rover/SimulatedRover.h"
 
+#include <sstream>
+
 #include "link/Limits.h"
 
 namespace ambler::rover {
@@ -16,7 +18,19 @@ link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) 
 }
 
 link::Telemetry SimulatedRover::heartbeat(double now_s) {
-  return message(now_s, link::Heartbeat{++heartbeats_});
+  return message(now_s, link::Heartbeat{++heartbeats_, holding(), holding_});
+}
+
+std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
+  if (options_.link_timeout_s <= 0 || !last_heard_s_ || holding()) return {};
+  const double silent_s = now_s - *last_heard_s_;
+  if (silent_s <= options_.link_timeout_s) return {};
+  std::ostringstream why;
+  why.precision(1);
+  why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
+      << " s";
+  holding_ = why.str();
+  return {heartbeat(now_s)};
 }
 
 std::vector<link::Telemetry> SimulatedRover::state(double now_s) {
@@ -40,10 +54,17 @@ std::vector<link::Telemetry> SimulatedRover::refuse(const link::Command& command
 
 std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command, double now_s) {
   std::string reason = verifier_.check(command);
+  if (!reason.empty()) return refuse(command, reason, now_s);
+  last_heard_s_ = now_s;
+  if (std::holds_alternative<link::GroundHeartbeat>(command.body)) return {};
+  const bool moves = std::holds_alternative<link::LegMove>(command.body) ||
+                     std::holds_alternative<link::BodyMove>(command.body) ||
+                     std::holds_alternative<link::Grasp>(command.body);
+  if (moves && holding()) reason = "holding (" + holding_ + "): send Resume first";
   if (reason.empty())
     reason = link::outsideLimits(command.body, config_.gait.model, config_.gait.gait);
   std::vector<link::Telemetry> changes;
-  if (reason.empty()) reason = execute(command.body, now_s, changes);
+  if (reason.empty()) reason = execute(command, now_s, changes);
   std::vector<link::Telemetry> out{message(
       now_s, link::CommandAck{command.operator_id, command.sequence, reason.empty(), reason})};
   out.insert(out.end(), changes.begin(), changes.end());
@@ -51,8 +72,9 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
 }
 
 // Empty, or why the command was not carried out.
-std::string SimulatedRover::execute(const link::CommandBody& body, double now_s,
+std::string SimulatedRover::execute(const link::Command& command, double now_s,
                                     std::vector<link::Telemetry>& out) {
+  const auto& body = command.body;
   if (const auto* m = std::get_if<link::LegMove>(&body)) {
     world_.rover().executeLeg({m->leg, m->waypoints});
   } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
@@ -62,8 +84,16 @@ std::string SimulatedRover::execute(const link::CommandBody& body, double now_s,
     return {};
   } else if (std::holds_alternative<link::Grasp>(body)) {
     return "this rover has no manipulator";
-  } else {
-    return {};  // Hold: every move completes before the next command is read
+  } else if (std::holds_alternative<link::Hold>(body)) {
+    // Every move completes before the next command is read, so holding is
+    // refusing the next motion.
+    holding_ = "Hold from " + command.operator_id;
+    out.push_back(heartbeat(now_s));
+    return {};
+  } else {  // Resume
+    holding_.clear();
+    out.push_back(heartbeat(now_s));
+    return {};
   }
   const auto states = state(now_s);
   out.insert(out.end(), states.begin(), states.end());

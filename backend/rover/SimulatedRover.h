@@ -6,6 +6,8 @@
 // changed. Behind the in-process link and behind ambler-sim's DDS endpoint.
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "link/Messages.h"
@@ -20,6 +22,9 @@ struct SimulatedRoverOptions {
   std::uint64_t seed = 1;  // obstacle course and execution noise
   std::vector<link::OperatorKey> operators;
   Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
+  // Hold on its own when no signed command (a GroundHeartbeat at least)
+  // has come for this long after the first; 0: never.
+  double link_timeout_s = 3.0;
 };
 
 class SimulatedRover {
@@ -34,6 +39,10 @@ class SimulatedRover {
   std::vector<link::Telemetry> refuse(const link::Command& command, const std::string& reason,
                                       double now_s) const;
   link::Telemetry heartbeat(double now_s);
+  // The link-loss watchdog: the heartbeat that announces the hold, the
+  // moment the ground has been silent for longer than the timeout.
+  std::vector<link::Telemetry> watchLink(double now_s);
+  bool holding() const { return !holding_.empty(); }
   // Every leg and the body, as the rover reports them now.
   std::vector<link::Telemetry> state(double now_s);
 
@@ -42,7 +51,7 @@ class SimulatedRover {
 
  private:
   link::Telemetry message(double now_s, link::TelemetryBody body) const;
-  std::string execute(const link::CommandBody& body, double now_s,
+  std::string execute(const link::Command& command, double now_s,
                       std::vector<link::Telemetry>& out);
 
   walk::WalkConfig config_;
@@ -50,6 +59,8 @@ class SimulatedRover {
   sim::RoverWorld world_;
   link::CommandVerifier verifier_;
   std::uint64_t heartbeats_ = 0, scans_ = 0;
+  std::string holding_;                 // why the rover holds; empty: it does not
+  std::optional<double> last_heard_s_;  // the last signed command
 };
 
 }  // namespace ambler::rover

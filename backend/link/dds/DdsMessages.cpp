@@ -55,8 +55,12 @@ void fillBody(const CommandBody& body, ambler_dds_CommandBody& out,
     out._u.grasp = {m->x_m, m->y_m, m->z_m, m->yaw_rad, m->opening_m};
   } else if (std::holds_alternative<AcquireScan>(body)) {
     out._d = ambler_dds_KIND_ACQUIRE_SCAN;
-  } else {
+  } else if (std::holds_alternative<Hold>(body)) {
     out._d = ambler_dds_KIND_HOLD;
+  } else if (std::holds_alternative<GroundHeartbeat>(body)) {
+    out._d = ambler_dds_KIND_GROUND_HEARTBEAT;
+  } else {
+    out._d = ambler_dds_KIND_RESUME;
   }
 }
 
@@ -80,6 +84,10 @@ CommandBody bodyFrom(const ambler_dds_CommandBody& b) {
       return AcquireScan{};
     case ambler_dds_KIND_HOLD:
       return Hold{};
+    case ambler_dds_KIND_GROUND_HEARTBEAT:
+      return GroundHeartbeat{};
+    case ambler_dds_KIND_RESUME:
+      return Resume{};
   }
   throw DecodeError("unknown command kind " + std::to_string(int(b._d)));
 }
@@ -106,7 +114,7 @@ class TelemetryWriter {
                   const Entity& image)
       : heartbeat_(heartbeat), leg_(leg), body_(body), ack_(ack), image_(image) {}
   void operator()(const Telemetry& t, const Heartbeat& m) const {
-    const ambler_dds_Heartbeat s{t.rover_id, t.time_s, m.count};
+    const ambler_dds_Heartbeat s{t.rover_id, t.time_s, m.count, m.holding, text(m.hold_reason)};
     write(heartbeat_.get(), &s);
   }
   void operator()(const Telemetry& t, const LegState& m) const {
@@ -142,7 +150,10 @@ class TelemetryWriter {
   const Entity &heartbeat_, &leg_, &body_, &ack_, &image_;
 };
 
-Telemetry from(const ambler_dds_Heartbeat& s) { return {s.rover_id, s.time_s, Heartbeat{s.count}}; }
+Telemetry from(const ambler_dds_Heartbeat& s) {
+  return {s.rover_id, s.time_s,
+          Heartbeat{s.count, s.holding, s.hold_reason ? s.hold_reason : std::string()}};
+}
 Telemetry from(const ambler_dds_LegState& s) {
   return {s.rover_id, s.time_s, LegState{s.leg, fromDds(s.joints), s.contact}};
 }

@@ -17,13 +17,15 @@ const walk::WalkConfig& config() {
 }
 
 link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
+link::OperatorKey bob() { return {"bob", std::vector<std::uint8_t>(32, 8)}; }
 
 // The in-process simulator, counting what the console sends.
 class CountingLink : public link::Link {
  public:
   CountingLink() : inner_(config(), options(), 200ms) {}
   void send(const link::Command& c) override {
-    sent.push_back(link::typeName(c.body));
+    if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
+      sent.push_back(link::typeName(c.body));
     inner_.send(c);
   }
   std::vector<link::Telemetry> receive(std::chrono::milliseconds t) override {
@@ -33,12 +35,12 @@ class CountingLink : public link::Link {
   int count(const std::string& type) const {
     return int(std::count(sent.begin(), sent.end(), type));
   }
-  std::vector<std::string> sent;
+  std::vector<std::string> sent;  // but heartbeats
 
  private:
   static rover::SimulatedRoverOptions options() {
     rover::SimulatedRoverOptions o;
-    o.operators = {alice()};
+    o.operators = {alice(), bob()};
     return o;
   }
   rover::InProcessLink inner_;
@@ -233,8 +235,36 @@ TEST(Executive, AnUnansweredCommandSendsHoldAndSuspends) {
   EXPECT_EQ(executive.phase(), Phase::kScanning);
   executive.poll(2.5, 0ms);
   EXPECT_EQ(executive.phase(), Phase::kSuspended);
-  EXPECT_EQ(link.sent, (std::vector<std::string>{"AcquireScan", "Hold"}));
+  EXPECT_EQ(link.sent, (std::vector<std::string>{"AcquireScan", "GroundHeartbeat",
+                                                 "GroundHeartbeat", "Hold"}));
   EXPECT_NE(executive.events().back().what.find("within 2 s"), std::string::npos);
+}
+
+// Another console's Hold (or the rover's own, on link loss) stops the step
+// and withdraws its proposal; resuming ends the hold and plans afresh.
+TEST(Executive, ARoverHoldSuspendsTheStepUntilResumed) {
+  Console c(steps(1));
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const auto stale = c.gate.pending()->id;
+  link::CommandSigner bob_signer(bob());
+  link::Command hold;
+  hold.rover_id = 1, hold.body = link::Hold{};
+  bob_signer.sign(hold);
+  c.link.send(hold);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(c.executive.roverHolding(), "Hold from bob");
+  EXPECT_FALSE(c.gate.pending());
+  EXPECT_NE(c.gate.approve(stale, "alice", c.now), "");  // nothing stale to approve
+
+  c.executive.resume(c.now);
+  c.untilDecisionNeeded();
+  EXPECT_EQ(c.executive.roverHolding(), "");
+  EXPECT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  EXPECT_EQ(c.executive.phase(), Phase::kDone) << c.executive.events().back().what;
+  EXPECT_EQ(c.link.count("Resume"), 1);
 }
 
 TEST(TaskTree, TasksStartInOrderAndSuspendTogether) {

@@ -60,6 +60,19 @@ TEST(Codec, TelemetryWithARangeImageSurvivesTheRoundTrip) {
   EXPECT_EQ(typeName(u.body), "RangeImage");
 }
 
+TEST(Codec, HoldsAndHeartbeatsBothWaysSurviveTheRoundTrip) {
+  const Telemetry t{1, 5.0, Heartbeat{9, true, "Hold from alice"}};
+  const auto h = std::get<Heartbeat>(decodeTelemetry(encode(t)).body);
+  EXPECT_EQ(h.count, 9u);
+  EXPECT_TRUE(h.holding);
+  EXPECT_EQ(h.hold_reason, "Hold from alice");
+  for (const CommandBody& body : std::vector<CommandBody>{GroundHeartbeat{}, Resume{}, Hold{}}) {
+    Command c = legMove();
+    c.body = body;
+    EXPECT_EQ(decodeCommand(encode(c)).body.index(), body.index()) << typeName(body);
+  }
+}
+
 // Every prefix of a valid message is refused with a message that says it is
 // truncated; nothing reads past the end.
 TEST(Codec, TruncatedMessagesAreRefusedAtEveryLength) {
@@ -115,7 +128,7 @@ TEST(Codec, MalformedCommandsAreRefusedWithTheProblemNamed) {
   c.body = BodyMove{INFINITY, 0, 0, 0};
   expectRefused(encode(c), "body move x is not a finite number");
   // A telemetry message is not a command.
-  expectRefused(encode(Telemetry{1, 2.0, Heartbeat{5}}), "expected a command");
+  expectRefused(encode(Telemetry{1, 2.0, Heartbeat{5, false, {}}}), "expected a command");
 }
 
 TEST(Codec, ARangeImageWhoseSizeDisagreesIsRefused) {

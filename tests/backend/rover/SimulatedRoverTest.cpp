@@ -77,6 +77,48 @@ TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
   EXPECT_EQ((rover.world().rover().truth().body.xy - before).norm(), 0.0);
 }
 
+const link::Heartbeat& heartbeatOf(const std::vector<link::Telemetry>& out) {
+  return std::get<link::Heartbeat>(out.at(out.size() - 1).body);
+}
+
+TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
+  auto o = options();
+  o.link_timeout_s = 3.0;
+  SimulatedRover rover(config(), o);
+  link::CommandSigner signer(alice());
+  EXPECT_TRUE(rover.watchLink(100.0).empty());  // no console yet: nothing to lose
+  ASSERT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 101.0)).accepted);
+  // A signed heartbeat keeps the watchdog fed and is not acknowledged.
+  EXPECT_TRUE(rover.handle(command(link::GroundHeartbeat{}, &signer), 103.5).empty());
+  EXPECT_TRUE(rover.watchLink(106.4).empty());
+  // An unsigned one (a watching console) does not feed it.
+  EXPECT_FALSE(ackOf(rover.handle(command(link::GroundHeartbeat{}, nullptr), 106.45)).accepted);
+  const auto hold = rover.watchLink(106.6);
+  ASSERT_EQ(hold.size(), 1u);
+  EXPECT_TRUE(heartbeatOf(hold).holding);
+  EXPECT_EQ(heartbeatOf(hold).hold_reason,
+            "link lost: no command or heartbeat from the ground for 3.1 s");
+  EXPECT_TRUE(rover.watchLink(107.0).empty());  // announced once
+
+  const auto held_at = rover.world().rover().truth().body.xy;
+  auto out = rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 110.0);
+  EXPECT_EQ(ackOf(out).reason,
+            "holding (link lost: no command or heartbeat from the ground for 3.1 s): send Resume "
+            "first");
+  EXPECT_TRUE(ackOf(rover.handle(command(link::AcquireScan{}, &signer), 110.5)).accepted);
+  EXPECT_EQ((rover.world().rover().truth().body.xy - held_at).norm(), 0.0);
+
+  out = rover.handle(command(link::Resume{}, &signer), 111.0);
+  EXPECT_TRUE(ackOf(out).accepted);
+  EXPECT_FALSE(heartbeatOf(out).holding);
+  EXPECT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 112.0)).accepted);
+
+  // An operator's Hold holds the same way.
+  out = rover.handle(command(link::Hold{}, &signer), 113.0);
+  EXPECT_EQ(heartbeatOf(out).hold_reason, "Hold from alice");
+  EXPECT_FALSE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 114.0)).accepted);
+}
+
 TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
   SimulatedRover rover(config(), options());
   link::CommandSigner signer(alice());
