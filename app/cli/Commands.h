@@ -16,6 +16,7 @@ void addEval(CLI::App& app);
 void addFootfall(CLI::App& app);
 void addWalk(CLI::App& app);
 void addLog(CLI::App& app);
+void addDrive(CLI::App& app);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

@@ -8,7 +8,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
-      "inspection, mission logs)"};
+      "inspection, mission logs, a headless console)"};
   app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   ambler::cli::addFootfall(app);
   ambler::cli::addWalk(app);
   ambler::cli::addLog(app);
+  ambler::cli::addDrive(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

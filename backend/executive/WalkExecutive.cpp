@@ -22,6 +22,8 @@ std::string phaseName(Phase phase) {
   switch (phase) {
     case Phase::kIdle:
       return "idle";
+    case Phase::kConnecting:
+      return "waiting for the rover";
     case Phase::kScanning:
       return "scanning";
     case Phase::kAwaitingDecision:
@@ -45,17 +47,16 @@ WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, Appr
       opt_(std::move(options)),
       map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)) {}
 
-void WalkExecutive::start(double now_s) {
+void WalkExecutive::start(double now_s, bool end_hold) {
   walk_task_ = tasks_.add(-1, TaskKind::kGoal, "walk " + std::to_string(opt_.steps) + " steps");
   tasks_.start(walk_task_, now_s);
-  requestScan(now_s);
+  end_hold_ = end_hold;
+  phase_ = Phase::kConnecting;
 }
 
 void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
-  // Harmless when the rover does not hold; not awaited, as the scan that
-  // follows is acknowledged after it.
-  send(link::Resume{}, now_s);
+  endHold(now_s);
   note(now_s, "resumed: scanning and planning again from the reported state");
   requestScan(now_s);
 }
@@ -92,6 +93,11 @@ void WalkExecutive::requestScan(double now_s) {
 void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   for (const auto& message : link_.receive(wait)) handle(message, now_s);
   if (phase_ == Phase::kIdle) return;
+  if (phase_ == Phase::kConnecting) {
+    if (!reported_) return;
+    if (end_hold_) endHold(now_s);
+    requestScan(now_s);
+  }
   // Even when done or suspended: the rover holds when the ground falls silent.
   if (now_s - last_sent_s_ >= opt_.heartbeat_period_s) send(link::GroundHeartbeat{}, now_s);
   if (phase_ == Phase::kDone) return;
@@ -145,10 +151,15 @@ void WalkExecutive::updateReported() {
   reported_ = s;
 }
 
+// Harmless when the rover does not hold. Not awaited, as the scan that
+// follows is acknowledged after it; until its own acknowledgement, a
+// heartbeat that says the rover holds is from before it.
+void WalkExecutive::endHold(double now_s) { resume_ = send(link::Resume{}, now_s); }
+
 // A hold the executive did not ask for (link loss, or another console's
 // Hold) stops the step; the operator decides when to resume.
 void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s) {
-  if (heartbeat.hold_reason == rover_holding_) return;
+  if (heartbeat.hold_reason == rover_holding_ || (resume_ && heartbeat.holding)) return;
   rover_holding_ = heartbeat.hold_reason;
   if (!heartbeat.holding) {
     note(now_s, "rover no longer holds");
@@ -161,6 +172,7 @@ void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double no
 
 void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
   if (ack.operator_id != signer_.operatorId()) return;
+  if (resume_ && ack.sequence == *resume_) resume_.reset();
   if (!awaiting_ || ack.sequence != *awaiting_) {
     // Heartbeats and Resume are not awaited; only their refusals come back.
     if (!ack.accepted)

@@ -35,7 +35,7 @@ struct ExecutiveOptions {
   double heartbeat_period_s = 1.0;
 };
 
-enum class Phase { kIdle, kScanning, kAwaitingDecision, kExecuting, kSuspended, kDone };
+enum class Phase { kIdle, kConnecting, kScanning, kAwaitingDecision, kExecuting, kSuspended, kDone };
 std::string phaseName(Phase phase);
 
 struct ExecutiveEvent {
@@ -48,8 +48,10 @@ class WalkExecutive {
   WalkExecutive(link::Link& link, link::CommandSigner& signer, ApprovalGate& gate,
                 gait::GaitContext context, ExecutiveOptions options = {});
 
-  // The walk goal: asks for a first scan.
-  void start(double now_s);
+  // The walk goal: asks for a first scan once the rover's state has come
+  // (the link works); with `end_hold`, ends a hold the rover may be in
+  // first (the operator chose to walk it again).
+  void start(double now_s, bool end_hold = false);
   // Reads what arrived (waiting up to `wait`), reacts, and sends what the
   // gate released. Call it often.
   void poll(double now_s, std::chrono::milliseconds wait);
@@ -74,6 +76,7 @@ class WalkExecutive {
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
+  void endHold(double now_s);
   void updateReported();
   void requestScan(double now_s);
   void planAndPropose(double now_s);
@@ -109,6 +112,8 @@ class WalkExecutive {
   double sent_s_ = 0.0;
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;
+  std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
+  bool end_hold_ = false;
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;

@@ -1,5 +1,7 @@
 #include "link/dds/DdsMessages.h"
 
+#include <thread>
+
 #include <algorithm>
 #include <cstring>
 
@@ -250,7 +252,22 @@ DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id)
     wait_.attach(e->get());
 }
 
+// Commands are volatile: one written before discovery has matched the
+// rover's reader is lost, so wait for the match (discovery on loopback
+// takes tens of milliseconds).
+void DdsLink::waitForRover() const {
+  for (int i = 0; i < 200; ++i) {
+    dds_publication_matched_status_t status{};
+    check(dds_get_publication_matched_status(commands_.get(), &status), "reading matches");
+    if (status.current_count > 0) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  throw LinkError("no rover listens for commands on DDS domain " + std::to_string(domain_) +
+                  " (waited 2 s)");
+}
+
 void DdsLink::send(const Command& c) {
+  waitForRover();
   ambler_dds_Command s{};
   s.rover_id = c.rover_id;
   s.operator_id = text(c.operator_id);

@@ -51,6 +51,7 @@ class RoverEndpoint {
 class DdsLink : public Link {
  public:
   DdsLink(std::uint32_t domain, std::uint32_t rover_id);
+  // Throws LinkError when no rover has listened on the domain for 2 s.
   void send(const Command& command) override;
   // Telemetry from this rover, in rover time order; malformed samples are
   // dropped and counted.
@@ -61,6 +62,7 @@ class DdsLink : public Link {
  private:
   template <typename Sample, typename Convert>
   void takeFrom(dds_entity_t reader, Convert&& convert, std::vector<Telemetry>& out);
+  void waitForRover() const;
 
   std::uint32_t domain_, rover_id_;
   Entity participant_;

@@ -215,15 +215,24 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
 }
 
 // A rover that never answers.
+// Reports the rover's state once, then answers nothing.
 class SilentLink : public link::Link {
  public:
   void send(const link::Command& c) override { sent.push_back(link::typeName(c.body)); }
-  std::vector<link::Telemetry> receive(std::chrono::milliseconds) override { return {}; }
+  std::vector<link::Telemetry> receive(std::chrono::milliseconds) override {
+    if (!stated_) return {};
+    stated_ = false;
+    auto o = rover::SimulatedRoverOptions();
+    return rover::SimulatedRover(config(), o).state(0.0);
+  }
   std::string describe() const override { return "silence"; }
   std::vector<std::string> sent;
+
+ private:
+  bool stated_ = true;
 };
 
-TEST(Executive, AnUnansweredCommandSendsHoldAndSuspends) {
+TEST(Executive, WaitsForTheRoversStateThenSendsHoldWhenACommandGoesUnanswered) {
   SilentLink link;
   link::CommandSigner signer(alice());
   ApprovalGate gate;
@@ -231,9 +240,13 @@ TEST(Executive, AnUnansweredCommandSendsHoldAndSuspends) {
   o.ack_timeout_s = 2.0;
   WalkExecutive executive(link, signer, gate, config().gait, o);
   executive.start(0.0);
+  EXPECT_EQ(executive.phase(), Phase::kConnecting);
+  EXPECT_TRUE(link.sent.empty());  // nothing before the rover is heard
   executive.poll(1.0, 0ms);
   EXPECT_EQ(executive.phase(), Phase::kScanning);
   executive.poll(2.5, 0ms);
+  EXPECT_EQ(executive.phase(), Phase::kScanning);
+  executive.poll(3.5, 0ms);
   EXPECT_EQ(executive.phase(), Phase::kSuspended);
   EXPECT_EQ(link.sent, (std::vector<std::string>{"AcquireScan", "GroundHeartbeat",
                                                  "GroundHeartbeat", "Hold"}));

@@ -1,0 +1,216 @@
+// The whole chain over DDS on loopback, with ambler-sim in its own process
+// (issue 6 acceptance): the executive walks with scripted approvals and the
+// log holds every command and acknowledgement; a console killed mid-walk
+// loses no acknowledged command, and the simulator holds when it falls
+// silent. Each test process takes its own domain.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "../../TempDir.h"
+#include "core/Resources.h"
+#include "executive/WalkExecutive.h"
+#include "link/dds/DdsMessages.h"
+#include "missionlog/ReplayLinks.h"
+#include "walk/AutonomousWalk.h"
+
+namespace ambler::executive {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
+
+const walk::WalkConfig& config() {
+  static const walk::WalkConfig c =
+      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                           findResource("config/rover-scanner.json"));
+  return c;
+}
+
+link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
+
+std::string aliceHex() {
+  std::string hex;
+  for (int i = 0; i < 32; ++i) hex += "07";
+  return hex;
+}
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// ambler-sim serving `domain` until the test ends.
+class SimProcess {
+ public:
+  SimProcess(const TempDir& dir, std::uint32_t domain, double link_timeout_s) {
+    const auto keys = dir / "operators.json";
+    std::ofstream(keys) << R"({"operators": [{"operator": "alice", "key_hex": ")" << aliceHex()
+                        << R"("}]})";
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const std::string d = std::to_string(domain), t = std::to_string(link_timeout_s);
+      ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(),
+              "--link-timeout", t.c_str(), "--heartbeat-ms", "200", "--duration", "120",
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~SimProcess() {
+    ::kill(pid_, SIGTERM);
+    ::waitpid(pid_, nullptr, 0);
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+// What a log holds: commands by sequence, acknowledgements by sequence.
+struct LoggedTraffic {
+  std::map<std::uint64_t, std::string> commands;
+  std::map<std::uint64_t, link::CommandAck> acks;
+};
+
+LoggedTraffic readTraffic(const std::filesystem::path& path) {
+  LoggedTraffic out;
+  for (const auto& m : missionlog::MissionLogReader(path).messages(0, 1e300)) {
+    if (m.direction == missionlog::Direction::kToRover) {
+      const auto c = link::decodeCommand(m.payload);
+      out.commands[c.sequence] = link::typeName(c.body);
+    } else if (m.type == "CommandAck") {
+      const auto a = std::get<link::CommandAck>(link::decodeTelemetry(m.payload).body);
+      out.acks[a.sequence] = a;
+    }
+  }
+  return out;
+}
+
+TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAndAck) {
+  TempDir dir;
+  const auto domain = testDomain();
+  SimProcess sim(dir, domain, 3.0);
+  link::dds::DdsLink dds(domain, 1);
+  missionlog::MissionLog log(dir / "mission.db", "end to end");
+  missionlog::RecordingLink recording(dds, log);
+  link::CommandSigner signer(alice());
+  ApprovalGate gate([&](const missionlog::Decision& d) { log.record(d); });
+  ExecutiveOptions options;
+  options.steps = 5;
+  WalkExecutive executive(recording, signer, gate, config().gait, options);
+
+  // The script: reject the first proposal, resume, approve every other.
+  std::set<std::uint64_t> decided;
+  const auto start = Clock::now();
+  executive.start(missionlog::groundClockS());
+  while (executive.phase() != Phase::kDone && secondsSince(start) < 60) {
+    const double now = missionlog::groundClockS();
+    executive.poll(now, 50ms);
+    if (const auto& p = gate.pending(); p && decided.insert(p->id).second) {
+      if (decided.size() == 1)
+        EXPECT_EQ(gate.reject(p->id, "alice", now, "scripted rejection"), "");
+      else
+        EXPECT_EQ(gate.approve(p->id, "alice", now), "") << p->interlocks.firstFailure();
+    }
+    if (executive.phase() == Phase::kSuspended) {
+      ASSERT_EQ(decided.size(), 1u) << executive.events().back().what;
+      executive.resume(now);
+    }
+  }
+  ASSERT_EQ(executive.phase(), Phase::kDone) << executive.events().back().what;
+  EXPECT_EQ(executive.stepsDone(), 5);
+
+  const auto traffic = readTraffic(dir / "mission.db");
+  int moves = 0;
+  for (const auto& [sequence, type] : traffic.commands) {
+    if (type == "GroundHeartbeat") continue;  // acknowledged only when refused
+    const auto ack = traffic.acks.find(sequence);
+    ASSERT_NE(ack, traffic.acks.end()) << type << " " << sequence << " has no ack in the log";
+    EXPECT_TRUE(ack->second.accepted) << type << ": " << ack->second.reason;
+    moves += type == "LegMove" || type == "BodyMove";
+  }
+  EXPECT_GE(moves, 5);
+  const auto summary = missionlog::MissionLogReader(dir / "mission.db").summary();
+  EXPECT_EQ(summary.approved, 5);
+  EXPECT_EQ(summary.rejected, 1);
+}
+
+// A console (ambler-cli drive) in its own process, killed with SIGKILL
+// while it walks; it prints each acknowledgement after logging it.
+TEST(ExecutiveOverDds, AConsoleKilledMidWalkLosesNoAcknowledgedCommandAndTheRoverHolds) {
+  TempDir dir;
+  const auto domain = testDomain();
+  const double link_timeout_s = 2.0;
+  SimProcess sim(dir, domain, link_timeout_s);
+  const auto key = dir / "alice.json";
+  std::ofstream(key) << R"({"operator": "alice", "key_hex": ")" << aliceHex() << R"("})";
+  const auto log = dir / "mission.db";
+  int out[2];
+  ASSERT_EQ(::pipe(out), 0);
+  const pid_t console = ::fork();
+  ASSERT_GE(console, 0);
+  if (console == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    ::close(out[0]);
+    const std::string d = std::to_string(domain);
+    ::execl(AMBLER_CLI, AMBLER_CLI, "drive", "--domain", d.c_str(), "--key", key.c_str(), "--log",
+            log.c_str(), "--steps", "40", "--auto-approve", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  link::dds::DdsLink monitor(domain, 1);  // no key: it can only watch
+
+  FILE* lines = ::fdopen(out[0], "r");
+  std::set<std::uint64_t> acked;
+  int moves_acked = 0;
+  char line[4096];
+  const auto start = Clock::now();
+  while (moves_acked < 8 && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
+    const auto j = nlohmann::json::parse(line);
+    if (!j.contains("ack") || !j["accepted"].get<bool>()) continue;
+    acked.insert(j["ack"].get<std::uint64_t>());
+    const auto type = j["command"].get<std::string>();
+    moves_acked += type == "LegMove" || type == "BodyMove";
+  }
+  ASSERT_EQ(moves_acked, 8) << "the console did not walk";
+  for (const auto& t : monitor.receive(0ms))
+    if (const auto* h = std::get_if<link::Heartbeat>(&t.body)) {
+      ASSERT_FALSE(h->holding) << "held while the console was alive: " << h->hold_reason;
+    }
+  ::kill(console, SIGKILL);
+  const auto killed = Clock::now();
+  while (std::fgets(line, sizeof line, lines)) {  // what it printed before dying
+    const auto j = nlohmann::json::parse(line, nullptr, false);
+    if (!j.is_discarded() && j.contains("ack")) acked.insert(j["ack"].get<std::uint64_t>());
+  }
+  std::fclose(lines);
+  int status = 0;
+  ::waitpid(console, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the walk ended before the kill";
+
+  std::optional<link::Heartbeat> hold;
+  while (!hold && secondsSince(killed) < link_timeout_s + 3.0)
+    for (const auto& t : monitor.receive(50ms))
+      if (const auto* h = std::get_if<link::Heartbeat>(&t.body); h && h->holding) hold = *h;
+  ASSERT_TRUE(hold) << "ambler-sim did not hold after the console died";
+  // The hold comes a link timeout after the last command, which may have
+  // been sent a little before the kill.
+  EXPECT_LT(secondsSince(killed), link_timeout_s + 1.0);
+  EXPECT_EQ(hold->hold_reason.rfind("link lost", 0), 0u) << hold->hold_reason;
+
+  const auto traffic = readTraffic(log);
+  for (const auto sequence : acked) {
+    EXPECT_TRUE(traffic.commands.count(sequence)) << "command " << sequence << " lost";
+    EXPECT_TRUE(traffic.acks.count(sequence)) << "ack of " << sequence << " lost";
+  }
+}
+
+}  // namespace
+}  // namespace ambler::executive
