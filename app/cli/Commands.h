@@ -17,6 +17,8 @@ void addFootfall(CLI::App& app);
 void addWalk(CLI::App& app);
 void addLog(CLI::App& app);
 void addDrive(CLI::App& app);
+// `eval link`, under the `eval` subcommand.
+void addEvalLink(CLI::App& eval);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

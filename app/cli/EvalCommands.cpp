@@ -156,6 +156,7 @@ void addEval(CLI::App& app) {
   addEdgeOptions(*cmd, args->edges);
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
   cmd->callback([args] { runEvalElevation(*args); });
+  addEvalLink(*eval);
 }
 
 }  // namespace ambler::cli

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -278,6 +279,31 @@ TEST(Cli, LogSummaryCountsMessagesAndDecisions) {
   const auto bad = runCli("log summary " + (dir / "none.sqlite").string());
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.out.find("none.sqlite: no such file"), std::string::npos) << bad.out;
+}
+
+TEST(Cli, EvalLinkTimesRoundTripsThroughAmblerSim) {
+  // ambler-sim sits next to ambler-cli; a domain of this process's own.
+  const auto domain = std::to_string(20 + ::getpid() % 200);
+  const auto run = runCli("eval link --round-trips 20 --scans 2 --domain " + domain);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  const auto& rt = j["round_trip_ms"];
+  EXPECT_EQ(rt["n"], 20);
+  EXPECT_GT(rt["p50"].get<double>(), 0.0);
+  EXPECT_GE(rt["p99"].get<double>(), rt["p50"].get<double>());
+  EXPECT_GE(rt["max"].get<double>(), rt["p99"].get<double>());
+  EXPECT_GT(j["range_images_per_s"].get<double>(), 0.0);
+  EXPECT_GT(j["range_image_kb"].get<double>(), 0.0);
+}
+
+TEST(Cli, DriveRefusesToRunWithoutAnOperatorOrAutoApprove) {
+  TempDir dir;
+  std::ofstream(dir / "alice.json")
+      << R"({"operator": "alice", "key_hex": ")" << std::string(64, '7') << R"("})";
+  const auto run = runCli("drive --domain 231 --key " + (dir / "alice.json").string() + " --log " +
+                          (dir / "m.db").string());
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("pass --auto-approve"), std::string::npos) << run.out;
 }
 
 }  // namespace
