@@ -82,6 +82,7 @@ int drive(const DriveArgs& a) {
 
   const double start_s = missionlog::groundClockS();
   std::size_t printed = 0;
+  printLine({{"event", "waiting for the rover's state on " + link.describe()}, {"t_s", 0.0}});
   executive.start(start_s, a.resume);
   std::string stopped;
   while (stopped.empty()) {
@@ -102,6 +103,7 @@ int drive(const DriveArgs& a) {
   }
   printLine({{"stopped", stopped},
              {"steps_done", executive.stepsDone()},
+             {"steps_planned_ahead", executive.stepsPlannedAhead()},
              {"log", a.log},
              {"duration_s", missionlog::groundClockS() - start_s}});
   return stopped == "done" ? 0 : 2;

@@ -196,7 +196,14 @@ void WalkExecutive::planAndPropose(double now_s) {
   scan_.reset();
   plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
   tasks_.start(plan_task_, now_s);
-  gait::StepPlan plan = gait::planStep(*reported_, opt_.heading, map_, ctx_);
+  std::optional<gait::StepPlan> ahead = takeAhead();
+  if (ahead) {
+    ++planned_ahead_;
+    note(now_s, "step " + std::to_string(steps_done_ + 1) +
+                    ": the plan made during the step before, moved onto the reported stance");
+  }
+  gait::StepPlan plan =
+      ahead ? std::move(*ahead) : gait::planStep(*reported_, opt_.heading, map_, ctx_);
   if (!plan.ok) {
     tasks_.fail(plan_task_, now_s, plan.reason);
     suspend(now_s, "no step to propose: " + plan.reason, false);
@@ -207,6 +214,39 @@ void WalkExecutive::planAndPropose(double now_s) {
   tasks_.start(approval_task_, now_s);
   phase_ = Phase::kAwaitingDecision;
   gate_.propose(makeProposal(next_proposal_++, *reported_, std::move(plan), map_, ctx_), now_s);
+}
+
+// Runs right after the step's first command has gone: the rover executes
+// while the ground plans.
+void WalkExecutive::planAhead(double now_s) {
+  ahead_.reset();
+  if (steps_done_ + 1 >= opt_.steps) return;
+  const int task = tasks_.add(walk_task_, TaskKind::kQuery,
+                              "plan step " + std::to_string(steps_done_ + 2) + " ahead");
+  tasks_.start(task, now_s);
+  ahead_from_ = executing_->plan.after;
+  gait::StepPlan plan = gait::planStep(ahead_from_, opt_.heading, map_, ctx_);
+  if (!plan.ok) {
+    tasks_.fail(task, now_s, plan.reason);
+    return;
+  }
+  tasks_.finish(task, now_s);
+  ahead_ = std::move(plan);
+}
+
+// The plan ahead if the rover ended close enough to its prediction for the
+// plan to be moved onto where it is; otherwise none, and the step is
+// planned afresh on the newest map.
+std::optional<gait::StepPlan> WalkExecutive::takeAhead() {
+  if (!ahead_) return std::nullopt;
+  const gait::StepPlan plan = std::move(*ahead_);
+  ahead_.reset();
+  const auto& now = *reported_;
+  if ((now.body.xy - ahead_from_.body.xy).norm() > opt_.off_plan_m) return std::nullopt;
+  for (int i = 0; i < gait::kLegCount; ++i)
+    if ((now.feet[std::size_t(i)] - ahead_from_.feet[std::size_t(i)]).norm() > opt_.off_plan_m)
+      return std::nullopt;
+  return gait::reanchorStep(plan, ahead_from_, now, opt_.heading, ctx_);
 }
 
 std::string WalkExecutive::editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
@@ -233,6 +273,7 @@ void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
   next_command_ = 0;
   phase_ = Phase::kExecuting;
   sendNext(now_s);
+  planAhead(now_s);
 }
 
 void WalkExecutive::sendNext(double now_s) {
@@ -263,6 +304,7 @@ void WalkExecutive::afterMove(double now_s) {
       note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
                       " from its foothold (early contact): replanning");
       executing_.reset();
+      ahead_.reset();
       requestScan(now_s);
       return;
     }
@@ -298,6 +340,7 @@ void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
     tasks_.suspend(step_task_, now_s, why);
   executing_.reset();
   awaiting_.reset();
+  ahead_.reset();
   gate_.withdraw();
   phase_ = Phase::kSuspended;
 }

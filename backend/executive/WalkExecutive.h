@@ -7,6 +7,10 @@
 // gravity outside the support polygon, a leg stopped short by early
 // contact, or a body off its plan (a slip) is an exception: the step is
 // suspended (after a Hold where the rover may be unsafe) or planned again.
+// As in TCA, the next step is planned on the predicted stance while the
+// rover executes the current one; if the rover ends where predicted, that
+// plan is moved onto the reported stance and proposed without waiting for
+// the planner.
 
 #include <chrono>
 #include <optional>
@@ -35,7 +39,15 @@ struct ExecutiveOptions {
   double heartbeat_period_s = 1.0;
 };
 
-enum class Phase { kIdle, kConnecting, kScanning, kAwaitingDecision, kExecuting, kSuspended, kDone };
+enum class Phase {
+  kIdle,
+  kConnecting,
+  kScanning,
+  kAwaitingDecision,
+  kExecuting,
+  kSuspended,
+  kDone
+};
 std::string phaseName(Phase phase);
 
 struct ExecutiveEvent {
@@ -65,6 +77,8 @@ class WalkExecutive {
 
   Phase phase() const { return phase_; }
   int stepsDone() const { return steps_done_; }
+  // Steps proposed from a plan made while the one before executed.
+  int stepsPlannedAhead() const { return planned_ahead_; }
   const TaskTree& tasks() const { return tasks_; }
   const std::vector<ExecutiveEvent>& events() const { return events_; }
   const std::optional<gait::Stance>& reported() const { return reported_; }
@@ -80,6 +94,8 @@ class WalkExecutive {
   void updateReported();
   void requestScan(double now_s);
   void planAndPropose(double now_s);
+  void planAhead(double now_s);
+  std::optional<gait::StepPlan> takeAhead();
   void startExecuting(StepProposal proposal, double now_s);
   void sendNext(double now_s);
   void afterMove(double now_s);
@@ -97,7 +113,10 @@ class WalkExecutive {
   TaskTree tasks_;
   std::vector<ExecutiveEvent> events_;
   Phase phase_ = Phase::kIdle;
-  int steps_done_ = 0;
+  int steps_done_ = 0, planned_ahead_ = 0;
+  // The next step, planned during this one from the stance it predicts.
+  std::optional<gait::StepPlan> ahead_;
+  gait::Stance ahead_from_;
   std::uint64_t next_proposal_ = 1;
   // Where the rover reports its legs and body; filled by the state
   // telemetry that follows every move.

@@ -179,6 +179,22 @@ TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   EXPECT_EQ(c.executive.stepsDone(), 3);
   ASSERT_EQ(c.decisions.size(), 3u);
   for (const auto& d : c.decisions) EXPECT_EQ(d.operator_id, kAutoApprover);
+  // TCA: steps 2 and 3 were each planned while the step before executed
+  // (before its body move was acknowledged) and proposed from that plan.
+  EXPECT_EQ(c.executive.stepsPlannedAhead(), 2);
+  const auto& tasks = c.executive.tasks();
+  int overlapped = 0;
+  for (const auto& ahead : tasks.tasks()) {
+    if (ahead.name.find("ahead") == std::string::npos) continue;
+    const int step = std::stoi(ahead.name.substr(std::string("plan step ").size()));
+    for (const auto& t : tasks.tasks())
+      if (t.name == "BodyMove" && tasks.task(t.parent).name == "step " + std::to_string(step - 1)) {
+        EXPECT_EQ(ahead.status, TaskStatus::kDone);
+        EXPECT_LT(ahead.started_s, t.ended_s) << ahead.name;
+        ++overlapped;
+      }
+  }
+  EXPECT_EQ(overlapped, 2);
 
   // A proposal that fails an interlock (here a CSP margin no stance can
   // keep) is not released, even automatically.
