@@ -77,6 +77,42 @@ TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
   EXPECT_EQ((rover.world().rover().truth().body.xy - before).norm(), 0.0);
 }
 
+// Issue 6's security test: unsigned, forged, tampered, replayed and
+// reordered commands are each refused, and nothing moves.
+TEST(SimulatedRover, ForgedReplayedAndReorderedCommandsMoveNothing) {
+  SimulatedRover rover(config(), options());
+  link::CommandSigner signer(alice());
+  auto first = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
+  auto second = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
+  ASSERT_TRUE(ackOf(rover.handle(second, 1.0)).accepted);  // sequence 2 goes first
+  const auto truth = [&] { return rover.world().rover().truth(); };
+  const auto before = truth();
+
+  link::CommandSigner forger({"alice", std::vector<std::uint8_t>(32, 9)}, 10);
+  auto tampered = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
+  std::get<link::BodyMove>(tampered.body).y_m = 1.0;
+  gait::LegJoints lifted = std::get<link::LegState>(rover.state(0.0)[0].body).joints;
+  lifted.vertical_m -= 0.3;
+  const std::vector<std::pair<link::Command, std::string>> bad{
+      {command(link::BodyMove{0, 0.2, 0, 0}, nullptr), "unsigned command"},
+      {command(link::LegMove{0, {lifted}}, &forger), "bad signature for operator \"alice\""},
+      {tampered, "bad signature for operator \"alice\""},
+      {second, "replayed command: sequence 2 already accepted"},
+      {first, "out of order: sequence 1 after 2"},
+  };
+  double t = 2.0;
+  for (const auto& [c, reason] : bad) {
+    const auto out = rover.handle(c, t += 1.0);
+    ASSERT_EQ(out.size(), 1u) << reason;  // the NACK, and no state: nothing changed
+    EXPECT_FALSE(ackOf(out).accepted);
+    EXPECT_EQ(ackOf(out).reason, reason);
+  }
+  EXPECT_EQ((truth().body.xy - before.body.xy).norm(), 0.0);
+  EXPECT_EQ(truth().body.heading_rad, before.body.heading_rad);
+  for (int i = 0; i < gait::kLegCount; ++i)
+    EXPECT_EQ(truth().feet[std::size_t(i)], before.feet[std::size_t(i)]) << "leg " << i;
+}
+
 const link::Heartbeat& heartbeatOf(const std::vector<link::Telemetry>& out) {
   return std::get<link::Heartbeat>(out.at(out.size() - 1).body);
 }
