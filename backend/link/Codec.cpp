@@ -11,7 +11,7 @@ namespace ambler::link {
 namespace {
 
 constexpr std::uint8_t kMagic[4] = {'A', 'M', 'B', 'L'};
-constexpr std::uint8_t kVersion = 2;  // 2: heartbeat holding, GroundHeartbeat, Resume
+constexpr std::uint8_t kVersion = 2;  // 2: holding, GroundHeartbeat, Resume, striper
 constexpr std::uint8_t kTelemetryKind = 0, kCommandKind = 1;
 constexpr std::size_t kMaxText = 256;        // operator ids, reasons
 constexpr std::size_t kMaxWaypoints = 64;    // per leg move
@@ -171,7 +171,18 @@ void put(Writer& w, const BodyMove& m) {
 void put(Writer& w, const Grasp& m) {
   w.put(m.x_m), w.put(m.y_m), w.put(m.z_m), w.put(m.yaw_rad), w.put(m.opening_m);
 }
-void put(Writer&, const AcquireScan&) {}
+void put(Writer& w, const sensor::StriperImage& m) {
+  const auto& k = m.camera;
+  w.put(std::uint32_t(k.rows)), w.put(std::uint32_t(k.cols));
+  w.put(k.fx), w.put(k.fy), w.put(k.cx), w.put(k.cy);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) w.put(k.camera_to_world.matrix()(r, c));
+  for (int i = 0; i < 3; ++i) w.put(m.projector_position[i]);
+  for (const auto* channel : {&m.x, &m.y, &m.z, &m.intensity})
+    w.putRaw(reinterpret_cast<const std::uint8_t*>(channel->data()),
+             channel->size() * sizeof(float));
+}
+void put(Writer& w, const AcquireScan& m) { w.put(std::uint8_t(m.sensor)); }
 void put(Writer&, const Hold&) {}
 void put(Writer&, const GroundHeartbeat&) {}
 void put(Writer&, const Resume&) {}
@@ -263,8 +274,35 @@ Grasp get(Reader& r) {
   return m;
 }
 template <>
-AcquireScan get(Reader&) {
-  return {};
+sensor::StriperImage get(Reader& r) {
+  sensor::StriperImage m;
+  auto& k = m.camera;
+  const auto rows = r.get<std::uint32_t>("image rows"), cols = r.get<std::uint32_t>("image cols");
+  if (rows == 0 || cols == 0 || rows > kMaxImageSide || cols > kMaxImageSide)
+    r.fail("striper image of " + std::to_string(rows) + " x " + std::to_string(cols) +
+           " pixels (1.." + std::to_string(kMaxImageSide) + " each way)");
+  k.rows = int(rows), k.cols = int(cols);
+  k.fx = r.getFinite("fx"), k.fy = r.getFinite("fy");
+  k.cx = r.getFinite("cx"), k.cy = r.getFinite("cy");
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 4; ++c) k.camera_to_world.matrix()(i, c) = r.getFinite("camera pose");
+  for (int i = 0; i < 3; ++i) m.projector_position[i] = r.getFinite("projector position");
+  const char* names[] = {"X", "Y", "Z", "intensity"};
+  int i = 0;
+  for (auto* channel : {&m.x, &m.y, &m.z, &m.intensity}) {
+    channel->resize(std::size_t(rows) * cols);
+    r.getRaw(reinterpret_cast<std::uint8_t*>(channel->data()), channel->size() * sizeof(float),
+             names[i++]);
+  }
+  if (const auto problem = sensor::findProblem(m); !problem.empty()) r.fail(problem);
+  return m;
+}
+template <>
+AcquireScan get(Reader& r) {
+  const auto sensor = r.get<std::uint8_t>("scan sensor");
+  if (sensor > 1)
+    r.fail("scan sensor " + std::to_string(sensor) + " (0 range scanner, 1 light-striper)");
+  return {ScanSensor(sensor)};
 }
 template <>
 Hold get(Reader&) {
@@ -349,7 +387,8 @@ Command decodeCommand(std::span<const std::uint8_t> bytes) {
 }
 
 std::string typeName(const TelemetryBody& body) {
-  static const char* names[] = {"Heartbeat", "LegState", "BodyState", "CommandAck", "RangeImage"};
+  static const char* names[] = {"Heartbeat",  "LegState",   "BodyState",
+                                "CommandAck", "RangeImage", "StriperImage"};
   static_assert(std::size(names) == std::variant_size_v<TelemetryBody>);
   return names[body.index()];
 }

@@ -13,6 +13,7 @@
 
 #include "gait/RoverModel.h"
 #include "sensor/RangeImage.h"
+#include "sensor/StriperImage.h"
 
 namespace ambler::link {
 
@@ -49,7 +50,8 @@ struct CommandAck {
   std::string reason;  // empty when accepted
 };
 
-using TelemetryBody = std::variant<Heartbeat, LegState, BodyState, CommandAck, sensor::RangeImage>;
+using TelemetryBody = std::variant<Heartbeat, LegState, BodyState, CommandAck, sensor::RangeImage,
+                                   sensor::StriperImage>;
 
 struct Telemetry {
   std::uint32_t rover_id = 0;
@@ -80,7 +82,13 @@ struct Grasp {
   double opening_m = 0.0;
 };
 
-struct AcquireScan {};
+// Which sensor: the laser range scanner (a RangeImage comes back) or the
+// light-striper for rock sampling (a StriperImage).
+enum class ScanSensor : std::uint8_t { kRangeScanner = 0, kLightStriper = 1 };
+
+struct AcquireScan {
+  ScanSensor sensor = ScanSensor::kRangeScanner;
+};
 
 // Stop every motion now and stay still until a Resume.
 struct Hold {};

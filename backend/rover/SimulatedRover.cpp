@@ -79,8 +79,11 @@ std::string SimulatedRover::execute(const link::Command& command, double now_s,
     world_.rover().executeLeg({m->leg, m->waypoints});
   } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
     world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
-  } else if (std::holds_alternative<link::AcquireScan>(body)) {
-    out.push_back(message(now_s, world_.scan(++scans_)));
+  } else if (const auto* m = std::get_if<link::AcquireScan>(&body)) {
+    if (m->sensor == link::ScanSensor::kLightStriper)
+      out.push_back(message(now_s, world_.striperScan(++scans_)));
+    else
+      out.push_back(message(now_s, world_.scan(++scans_)));
     return {};
   } else if (std::holds_alternative<link::Grasp>(body)) {
     return "this rover has no manipulator";

@@ -40,6 +40,24 @@ sensor::RangeImage RoverWorld::scan(std::uint64_t index) const {
   return simulateScan(caster_, scanner_, mountPose(rover_.truth().body), seed_ * 1000 + index);
 }
 
+sensor::StriperImage RoverWorld::striperScan(std::uint64_t index) const {
+  if (!fine_caster_)
+    fine_caster_ = std::make_unique<RayCaster>(
+        terrain_, RayCasterOptions{.cell_size = 0.25, .step = 0.01, .tolerance = 1e-4});
+  const gait::BodyPose& b = rover_.truth().body;
+  const auto at = [&](double right, double forward, double up) {
+    const Eigen::Vector2d xy = b.toWorld(Eigen::Vector2d(right, forward));
+    return Eigen::Vector3d(xy.x(), xy.y(), terrain_.height(xy.x(), xy.y()) + up);
+  };
+  // Body frame: x right, y forward. The camera looks down from 1.1 m at the
+  // ground 2.6 m ahead of the body's centre; the projector sits beside it.
+  StriperModel model;
+  model.camera_position = at(0.0, 2.0, 1.1);
+  model.look_at = at(0.0, 2.6, 0.0);
+  model.projector_position = at(0.5, 2.1, 0.8);
+  return simulateStriper(terrain_, *fine_caster_, model, seed_ * 1000 + index).image;
+}
+
 Eigen::Isometry3d RoverWorld::mountPose(const gait::BodyPose& b) const {
   const double ground_z = b.link_z - model_.link_plane_nominal_m;
   return scanner_.mountPose({b.xy.x(), b.xy.y(), ground_z}, b.heading_rad);

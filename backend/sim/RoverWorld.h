@@ -5,6 +5,7 @@
 // autonomous walk and the simulated rover behind a link share it.
 
 #include <cstdint>
+#include <memory>
 
 #include "core/GridSpec.h"
 #include "gait/GaitPlanner.h"
@@ -13,6 +14,7 @@
 #include "sim/RayCaster.h"
 #include "sim/RoverSim.h"
 #include "sim/ScannerSim.h"
+#include "sim/StriperSim.h"
 
 namespace ambler::sim {
 
@@ -34,6 +36,11 @@ class RoverWorld {
   // A range image from where the rover really is, tagged with that pose;
   // `index` varies the noise from scan to scan.
   sensor::RangeImage scan(std::uint64_t index) const;
+  // A light-striper image of the ground just ahead of the body, from a
+  // striper mounted at the body's front (assumed mount: the cmu-1990
+  // sampling work used a separate testbed). The first call builds a fine
+  // ray caster over the exact course.
+  sensor::StriperImage striperScan(std::uint64_t index) const;
   // The scanner's pose for a body pose (the mount is above the ground
   // under the body).
   Eigen::Isometry3d mountPose(const gait::BodyPose& body) const;
@@ -45,6 +52,7 @@ class RoverWorld {
   ProceduralTerrain terrain_;
   HeightfieldTerrain seen_;  // what the scanner's rays meet
   RayCaster caster_;
+  mutable std::unique_ptr<RayCaster> fine_caster_;  // for the striper, built when first needed
   RoverSim rover_;
 };
 

@@ -79,6 +79,7 @@ Topics::Topics(dds_entity_t p)
       body_state(topic(p, ambler_dds_BodyState_desc, "ambler/BodyState")),
       command_ack(topic(p, ambler_dds_CommandAck_desc, "ambler/CommandAck")),
       range_image(topic(p, ambler_dds_RangeImage_desc, "ambler/RangeImage")),
+      striper_image(topic(p, ambler_dds_StriperImage_desc, "ambler/StriperImage")),
       command(topic(p, ambler_dds_Command_desc, "ambler/Command")) {}
 
 Entity makeWriter(dds_entity_t participant, dds_entity_t topic, Traffic traffic) {

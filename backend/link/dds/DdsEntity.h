@@ -45,7 +45,7 @@ Entity loopbackParticipant(std::uint32_t domain);
 // volatile, in order.
 struct Topics {
   explicit Topics(dds_entity_t participant);
-  Entity heartbeat, leg_state, body_state, command_ack, range_image, command;
+  Entity heartbeat, leg_state, body_state, command_ack, range_image, striper_image, command;
 };
 
 // Reader and writer QoS for a topic of `Topics`.

@@ -55,8 +55,9 @@ void fillBody(const CommandBody& body, ambler_dds_CommandBody& out,
   } else if (const auto* m = std::get_if<Grasp>(&body)) {
     out._d = ambler_dds_KIND_GRASP;
     out._u.grasp = {m->x_m, m->y_m, m->z_m, m->yaw_rad, m->opening_m};
-  } else if (std::holds_alternative<AcquireScan>(body)) {
+  } else if (const auto* m = std::get_if<AcquireScan>(&body)) {
     out._d = ambler_dds_KIND_ACQUIRE_SCAN;
+    out._u.acquire_scan = std::uint8_t(m->sensor);
   } else if (std::holds_alternative<Hold>(body)) {
     out._d = ambler_dds_KIND_HOLD;
   } else if (std::holds_alternative<GroundHeartbeat>(body)) {
@@ -83,7 +84,10 @@ CommandBody bodyFrom(const ambler_dds_CommandBody& b) {
       return Grasp{m.x_m, m.y_m, m.z_m, m.yaw_rad, m.opening_m};
     }
     case ambler_dds_KIND_ACQUIRE_SCAN:
-      return AcquireScan{};
+      if (b._u.acquire_scan > 1)
+        throw DecodeError("scan sensor " + std::to_string(b._u.acquire_scan) +
+                          " (0 range scanner, 1 light-striper)");
+      return AcquireScan{ScanSensor(b._u.acquire_scan)};
     case ambler_dds_KIND_HOLD:
       return Hold{};
     case ambler_dds_KIND_GROUND_HEARTBEAT:
@@ -113,8 +117,13 @@ Command headerOf(const ambler_dds_Command& s) {
 class TelemetryWriter {
  public:
   TelemetryWriter(const Entity& heartbeat, const Entity& leg, const Entity& body, const Entity& ack,
-                  const Entity& image)
-      : heartbeat_(heartbeat), leg_(leg), body_(body), ack_(ack), image_(image) {}
+                  const Entity& image, const Entity& striper)
+      : heartbeat_(heartbeat),
+        leg_(leg),
+        body_(body),
+        ack_(ack),
+        image_(image),
+        striper_(striper) {}
   void operator()(const Telemetry& t, const Heartbeat& m) const {
     const ambler_dds_Heartbeat s{t.rover_id, t.time_s, m.count, m.holding, text(m.hold_reason)};
     write(heartbeat_.get(), &s);
@@ -147,9 +156,24 @@ class TelemetryWriter {
     s.reflectance = borrowed<dds_sequence_float>(m.reflectance);
     write(image_.get(), &s);
   }
+  void operator()(const Telemetry& t, const sensor::StriperImage& m) const {
+    ambler_dds_StriperImage s{};
+    s.rover_id = t.rover_id, s.time_s = t.time_s;
+    const auto& k = m.camera;
+    s.rows = std::uint32_t(k.rows), s.cols = std::uint32_t(k.cols);
+    s.fx = k.fx, s.fy = k.fy, s.cx = k.cx, s.cy = k.cy;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) s.camera_to_world[r * 4 + c] = k.camera_to_world.matrix()(r, c);
+    for (int i = 0; i < 3; ++i) s.projector_position[i] = m.projector_position[i];
+    s.x = borrowed<dds_sequence_float>(m.x);
+    s.y = borrowed<dds_sequence_float>(m.y);
+    s.z = borrowed<dds_sequence_float>(m.z);
+    s.intensity = borrowed<dds_sequence_float>(m.intensity);
+    write(striper_.get(), &s);
+  }
 
  private:
-  const Entity &heartbeat_, &leg_, &body_, &ack_, &image_;
+  const Entity &heartbeat_, &leg_, &body_, &ack_, &image_, &striper_;
 };
 
 Telemetry from(const ambler_dds_Heartbeat& s) {
@@ -177,6 +201,20 @@ Telemetry from(const ambler_dds_RangeImage& s) {
   m.reflectance.assign(s.reflectance._buffer, s.reflectance._buffer + s.reflectance._length);
   return {s.rover_id, s.time_s, std::move(m)};
 }
+Telemetry from(const ambler_dds_StriperImage& s) {
+  sensor::StriperImage m;
+  auto& k = m.camera;
+  k.rows = int(s.rows), k.cols = int(s.cols);
+  k.fx = s.fx, k.fy = s.fy, k.cx = s.cx, k.cy = s.cy;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) k.camera_to_world.matrix()(r, c) = s.camera_to_world[r * 4 + c];
+  for (int i = 0; i < 3; ++i) m.projector_position[i] = s.projector_position[i];
+  m.x.assign(s.x._buffer, s.x._buffer + s.x._length);
+  m.y.assign(s.y._buffer, s.y._buffer + s.y._length);
+  m.z.assign(s.z._buffer, s.z._buffer + s.z._length);
+  m.intensity.assign(s.intensity._buffer, s.intensity._buffer + s.intensity._length);
+  return {s.rover_id, s.time_s, std::move(m)};
+}
 
 }  // namespace
 
@@ -202,13 +240,15 @@ RoverEndpoint::RoverEndpoint(std::uint32_t domain, std::uint32_t rover_id)
       body_state_(makeWriter(participant_.get(), topics_.body_state.get(), Traffic::kState)),
       command_ack_(makeWriter(participant_.get(), topics_.command_ack.get(), Traffic::kInOrder)),
       range_image_(makeWriter(participant_.get(), topics_.range_image.get(), Traffic::kImages)),
+      striper_image_(makeWriter(participant_.get(), topics_.striper_image.get(), Traffic::kImages)),
       commands_(makeReader(participant_.get(), topics_.command.get(), Traffic::kInOrder)),
       wait_(participant_.get()) {
   wait_.attach(commands_.get());
 }
 
 void RoverEndpoint::publish(const Telemetry& message) {
-  const TelemetryWriter writer(heartbeat_, leg_state_, body_state_, command_ack_, range_image_);
+  const TelemetryWriter writer(heartbeat_, leg_state_, body_state_, command_ack_, range_image_,
+                               striper_image_);
   std::visit([&](const auto& body) { writer(message, body); }, message.body);
 }
 
@@ -246,9 +286,11 @@ DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id)
       body_state_(makeReader(participant_.get(), topics_.body_state.get(), Traffic::kState)),
       command_ack_(makeReader(participant_.get(), topics_.command_ack.get(), Traffic::kInOrder)),
       range_image_(makeReader(participant_.get(), topics_.range_image.get(), Traffic::kImages)),
+      striper_image_(makeReader(participant_.get(), topics_.striper_image.get(), Traffic::kImages)),
       commands_(makeWriter(participant_.get(), topics_.command.get(), Traffic::kInOrder)),
       wait_(participant_.get()) {
-  for (const auto* e : {&heartbeat_, &leg_state_, &body_state_, &command_ack_, &range_image_})
+  for (const auto* e :
+       {&heartbeat_, &leg_state_, &body_state_, &command_ack_, &range_image_, &striper_image_})
     wait_.attach(e->get());
 }
 
@@ -306,6 +348,7 @@ std::vector<Telemetry> DdsLink::receive(std::chrono::milliseconds timeout) {
   takeFrom<ambler_dds_BodyState>(body_state_.get(), convert, out);
   takeFrom<ambler_dds_CommandAck>(command_ack_.get(), convert, out);
   takeFrom<ambler_dds_RangeImage>(range_image_.get(), convert, out);
+  takeFrom<ambler_dds_StriperImage>(striper_image_.get(), convert, out);
   std::stable_sort(out.begin(), out.end(),
                    [](const Telemetry& a, const Telemetry& b) { return a.time_s < b.time_s; });
   return out;

@@ -43,7 +43,7 @@ class RoverEndpoint {
   std::uint32_t rover_id_;
   Entity participant_;
   Topics topics_;
-  Entity heartbeat_, leg_state_, body_state_, command_ack_, range_image_, commands_;
+  Entity heartbeat_, leg_state_, body_state_, command_ack_, range_image_, striper_image_, commands_;
   DataWait wait_;
 };
 
@@ -67,7 +67,7 @@ class DdsLink : public Link {
   std::uint32_t domain_, rover_id_;
   Entity participant_;
   Topics topics_;
-  Entity heartbeat_, leg_state_, body_state_, command_ack_, range_image_, commands_;
+  Entity heartbeat_, leg_state_, body_state_, command_ack_, range_image_, striper_image_, commands_;
   DataWait wait_;
   long dropped_ = 0;
 };

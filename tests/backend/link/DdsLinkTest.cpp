@@ -122,6 +122,25 @@ TEST(DdsLink, CommandsAndTelemetryCrossTheDomainInOrder) {
   EXPECT_EQ(link.dropped(), 0);
 }
 
+TEST(DdsLink, AStriperImageCrossesTheDomainWhole) {
+  const auto domain = testDomain();
+  RoverThread rover(domain);
+  DdsLink link(domain, 1);
+  collect(link, [](const auto& a) { return !only<BodyState>(a).empty(); });
+  CommandSigner signer(alice());
+  link.send(signedCommand(AcquireScan{ScanSensor::kLightStriper}, signer));
+  const auto all =
+      collect(link, [](const auto& a) { return !only<sensor::StriperImage>(a).empty(); });
+  const auto images = only<sensor::StriperImage>(all);
+  ASSERT_EQ(images.size(), 1u);
+  const auto& image = images[0];
+  EXPECT_EQ(image.rows(), 256);
+  EXPECT_EQ(image.x.size(), 256u * 256u);
+  EXPECT_EQ(sensor::findProblem(image), "");
+  EXPECT_GT(image.pointCount(), 256 * 256 / 2);
+  EXPECT_EQ(link.dropped(), 0);
+}
+
 TEST(DdsLink, AnotherRoversTrafficIsNotSeen) {
   const auto domain = testDomain();
   RoverThread rover(domain);  // rover 1

@@ -169,6 +169,37 @@ TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
 
 // The same exchange through the link: a console sends, the rover's thread
 // answers; heartbeats keep coming while the console waits.
+// The striper image holds the ground ahead: its points lie on the course's
+// surface (to the striper's 0.5 mm noise plus the marching tolerance) in
+// front of the body.
+TEST(SimulatedRover, AcquireScanWithTheStriperSendsTheGroundAhead) {
+  SimulatedRover rover(config(), options());
+  link::CommandSigner signer(alice());
+  const auto out =
+      rover.handle(command(link::AcquireScan{link::ScanSensor::kLightStriper}, &signer), 1.0);
+  ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  ASSERT_EQ(out.size(), 2u);
+  const auto& image = std::get<sensor::StriperImage>(out[1].body);
+  EXPECT_EQ(sensor::findProblem(image), "");
+  EXPECT_GT(image.pointCount(), image.rows() * image.cols() / 2);
+  const auto& terrain = rover.world().terrain();
+  const auto& body = rover.world().rover().truth().body;
+  double worst = 0.0;
+  for (int r = 0; r < image.rows(); r += 8)
+    for (int c = 0; c < image.cols(); c += 8) {
+      if (!image.hasPoint(r, c)) continue;
+      const Eigen::Vector3d p = image.point(r, c);
+      worst = std::max(worst, std::abs(p.z() - terrain.height(p.x(), p.y())));
+      EXPECT_GT(body.toBody(Eigen::Vector2d(p.head<2>())).y(), 1.5);  // ahead of the body centre
+    }
+  EXPECT_LT(worst, 0.01);
+  // Through the byte form unchanged.
+  const auto back =
+      std::get<sensor::StriperImage>(link::decodeTelemetry(link::encode(out[1])).body);
+  EXPECT_EQ(back.z, image.z);
+  EXPECT_EQ(back.camera.camera_to_world.matrix(), image.camera.camera_to_world.matrix());
+}
+
 TEST(InProcessLink, CommandsGoOutAndTelemetryComesBack) {
   InProcessLink link(config(), options(), std::chrono::milliseconds(20));
   link::CommandSigner signer(alice());
