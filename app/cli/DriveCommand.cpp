@@ -41,6 +41,7 @@ class AckPrinter : public link::Link {
   }
   std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override {
     auto in = inner_.receive(timeout);
+    if (!in.empty()) health.heard(missionlog::groundClockS());
     for (const auto& t : in)
       if (const auto* a = std::get_if<link::CommandAck>(&t.body))
         printLine({{"ack", a->sequence},
@@ -50,6 +51,7 @@ class AckPrinter : public link::Link {
     return in;
   }
   std::string describe() const override { return inner_.describe(); }
+  link::LinkHealth health;
 
  private:
   link::Link& inner_;
@@ -79,15 +81,26 @@ int drive(const DriveArgs& a) {
   options.rover_id = a.rover_id;
   options.steps = a.steps;
   executive::WalkExecutive executive(link, signer, gate, config.gait, options);
+  executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
+    log.recordProduct(t, kind, parameters);
+  });
 
   const double start_s = missionlog::groundClockS();
   std::size_t printed = 0;
   printLine({{"event", "waiting for the rover's state on " + link.describe()}, {"t_s", 0.0}});
   executive.start(start_s, a.resume);
   std::string stopped;
+  bool stale = false;
   while (stopped.empty()) {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
+    if (link.health.stale(now_s) != stale) {
+      stale = !stale;
+      const auto age = link.health.ageS(now_s);
+      printLine({{"link", stale ? "stale" : "fresh"},
+                 {"age_s", age ? nlohmann::json(*age) : nlohmann::json()},
+                 {"t_s", now_s - start_s}});
+    }
     for (; printed < executive.events().size(); ++printed)
       printLine({{"event", executive.events()[printed].what}, {"t_s", now_s - start_s}});
     const auto& pending = gate.pending();

@@ -134,7 +134,7 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
     onRoverHeartbeat(*h, now_s);
   } else if (const auto* image = std::get_if<sensor::RangeImage>(&message.body)) {
-    if (phase_ == Phase::kScanning) scan_ = *image;
+    if (phase_ == Phase::kScanning) scan_ = *image, scan_time_s_ = message.time_s;
   }
 }
 
@@ -194,6 +194,16 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
 void WalkExecutive::planAndPropose(double now_s) {
   terrain::mergeInto(map_, terrain::buildLocusMap(*scan_, map_.grid()));
   scan_.reset();
+  if (product_sink_) {
+    const auto& g = map_.grid();
+    std::ostringstream p;
+    p.precision(17);
+    p << R"({"method": "locus", "merged_into": "local terrain map", "range_image_time_s": )"
+      << scan_time_s_ << R"(, "origin_x": )" << g.origin_x << R"(, "origin_y": )" << g.origin_y
+      << R"(, "resolution": )" << g.resolution << R"(, "cols": )" << g.cols << R"(, "rows": )"
+      << g.rows << "}";
+    product_sink_(now_s, "elevation_map", p.str());
+  }
   plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
   tasks_.start(plan_task_, now_s);
   std::optional<gait::StepPlan> ahead = takeAhead();

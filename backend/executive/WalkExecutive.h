@@ -13,6 +13,7 @@
 // the planner.
 
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,10 +56,17 @@ struct ExecutiveEvent {
   std::string what;
 };
 
+// A derived product (kind, and the parameters that recompute it from the
+// logged messages, as JSON) for the mission log.
+using ProductSink =
+    std::function<void(double time_s, const std::string& kind, const std::string& parameters_json)>;
+
 class WalkExecutive {
  public:
   WalkExecutive(link::Link& link, link::CommandSigner& signer, ApprovalGate& gate,
                 gait::GaitContext context, ExecutiveOptions options = {});
+
+  void onProduct(ProductSink sink) { product_sink_ = std::move(sink); }
 
   // The walk goal: asks for a first scan once the rover's state has come
   // (the link works); with `end_hold`, ends a hold the rover may be in
@@ -135,6 +143,8 @@ class WalkExecutive {
   bool end_hold_ = false;
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
+  double scan_time_s_ = 0.0;                // its rover time
+  ProductSink product_sink_;
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;
   std::vector<int> command_tasks_;
 };

@@ -105,6 +105,9 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
   ExecutiveOptions options;
   options.steps = 5;
   WalkExecutive executive(recording, signer, gate, config().gait, options);
+  executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
+    log.recordProduct(t, kind, parameters);
+  });
 
   // The script: reject the first proposal, resume, approve every other.
   std::set<std::uint64_t> decided;
@@ -140,6 +143,8 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
   const auto summary = missionlog::MissionLogReader(dir / "mission.db").summary();
   EXPECT_EQ(summary.approved, 5);
   EXPECT_EQ(summary.rejected, 1);
+  // Each mapped scan, with what recomputes its map from the logged image.
+  EXPECT_EQ(summary.products, summary.from_rover.at("RangeImage"));
 }
 
 // A console (ambler-cli drive) in its own process, killed with SIGKILL
