@@ -8,7 +8,6 @@
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
-#include "core/Resources.h"
 #include "executive/WalkExecutive.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
@@ -67,9 +66,7 @@ int drive(const DriveArgs& a) {
     throw std::invalid_argument(
         "drive has no operator to ask: pass --auto-approve (every interlock still runs) or "
         "approve steps in ambler-gs");
-  const auto config =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  const auto config = walk::readDefaultWalkConfig();
   link::CommandSigner signer(link::readOperatorKey(a.key), firstSequence());
   missionlog::MissionLog log(a.log, "drive rover " + std::to_string(a.rover_id));
   link::dds::DdsLink dds(a.domain, a.rover_id);

@@ -9,7 +9,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "core/Resources.h"
 #include "link/dds/DdsMessages.h"
 #include "rover/RoverLoop.h"
 
@@ -31,9 +30,7 @@ struct Args {
 
 void run(const Args& a) {
   using namespace ambler;
-  const auto config =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  const auto config = walk::readDefaultWalkConfig();
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
   options.seed = a.seed;

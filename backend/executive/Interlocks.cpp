@@ -10,13 +10,6 @@ namespace ambler::executive {
 
 namespace {
 
-std::string metres(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << std::fixed << value << " m";
-  return s.str();
-}
-
 InterlockCheck planned(const gait::StepPlan& plan) {
   return {"plan", plan.ok, plan.ok ? plan.reason : "no step: " + plan.reason};
 }
@@ -96,6 +89,13 @@ std::string InterlockReport::firstFailure() const {
   for (const auto& c : checks)
     if (!c.passed) return c.name + ": " + c.detail;
   return {};
+}
+
+std::string metres(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << std::fixed << value << " m";
+  return s.str();
 }
 
 std::vector<link::CommandBody> stepCommands(const gait::StepPlan& plan, const gait::Stance& from) {

@@ -31,6 +31,9 @@ struct InterlockReport {
 // step is a body move only), then the body move.
 std::vector<link::CommandBody> stepCommands(const gait::StepPlan& plan, const gait::Stance& from);
 
+// A length as the executive's messages give it: "0.125 m".
+std::string metres(double value);
+
 InterlockReport checkInterlocks(const gait::StepPlan& plan, const gait::Stance& from,
                                 const std::vector<link::CommandBody>& commands,
                                 const terrain::ElevationMap& map, const gait::GaitContext& context);

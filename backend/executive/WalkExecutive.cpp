@@ -7,17 +7,6 @@
 
 namespace ambler::executive {
 
-namespace {
-
-std::string metres(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << std::fixed << value << " m";
-  return s.str();
-}
-
-}  // namespace
-
 std::string phaseName(Phase phase) {
   switch (phase) {
     case Phase::kIdle:

@@ -8,6 +8,7 @@
 #include <optional>
 #include <thread>
 
+#include "core/Resources.h"
 #include "footfall/FootfallConfig.h"
 #include "gait/DeadReckoning.h"
 #include "gait/RoverConfig.h"
@@ -26,6 +27,11 @@ WalkConfig readWalkConfig(const std::filesystem::path& rover_json,
   c.noise = sim::readExecutionNoise(rover_json);
   c.scanner = sim::readScannerModel(scanner_json);
   return c;
+}
+
+WalkConfig readDefaultWalkConfig() {
+  return readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
+                        findResource("config/rover-scanner.json"));
 }
 
 namespace {

@@ -23,6 +23,9 @@ struct WalkConfig {
 WalkConfig readWalkConfig(const std::filesystem::path& rover_json,
                           const std::filesystem::path& footfall_json,
                           const std::filesystem::path& scanner_json);
+// The installed configuration: config/rover.json, config/footfall.json and
+// config/rover-scanner.json from the resources (core/Resources.h).
+WalkConfig readDefaultWalkConfig();
 
 struct WalkOptions {
   std::uint64_t seed = 1;  // obstacle course and execution noise

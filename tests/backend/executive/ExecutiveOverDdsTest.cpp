@@ -15,7 +15,6 @@
 #include <thread>
 
 #include "../../TempDir.h"
-#include "core/Resources.h"
 #include "executive/WalkExecutive.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
@@ -30,9 +29,7 @@ using Clock = std::chrono::steady_clock;
 std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
 
 const walk::WalkConfig& config() {
-  static const walk::WalkConfig c =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
   return c;
 }
 

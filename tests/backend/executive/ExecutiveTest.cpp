@@ -1,6 +1,5 @@
 #include <gtest/gtest.h>
 
-#include "core/Resources.h"
 #include "executive/WalkExecutive.h"
 #include "rover/InProcessLink.h"
 
@@ -10,9 +9,7 @@ namespace {
 using namespace std::chrono_literals;
 
 const walk::WalkConfig& config() {
-  static const walk::WalkConfig c =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
   return c;
 }
 

@@ -12,7 +12,6 @@
 #include <fstream>
 #include <thread>
 
-#include "core/Resources.h"
 #include "rover/RoverLoop.h"
 
 namespace ambler::link::dds {
@@ -23,9 +22,7 @@ std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
 OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 
 const walk::WalkConfig& config() {
-  static const walk::WalkConfig c =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
   return c;
 }
 

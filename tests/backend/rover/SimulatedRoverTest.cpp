@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include "core/Resources.h"
 #include "link/Codec.h"
 #include "rover/InProcessLink.h"
 
@@ -10,9 +9,7 @@ namespace ambler::rover {
 namespace {
 
 const walk::WalkConfig& config() {
-  static const walk::WalkConfig c =
-      walk::readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                           findResource("config/rover-scanner.json"));
+  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
   return c;
 }
 

@@ -2,16 +2,12 @@
 // (issue 5's acceptance): 25 steps on seeds 1-5 with the default noise.
 #include <gtest/gtest.h>
 
-#include "core/Resources.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::walk {
 namespace {
 
-WalkConfig config() {
-  return readWalkConfig(findResource("config/rover.json"), findResource("config/footfall.json"),
-                        findResource("config/rover-scanner.json"));
-}
+WalkConfig config() { return readDefaultWalkConfig(); }
 
 class WalkOnSeed : public testing::TestWithParam<int> {};
 
