@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QCloseEvent>
+#include <QDockWidget>
 #include <QLabel>
 #include <QMessageBox>
 #include <QProgressBar>
@@ -12,6 +13,7 @@
 #include <QToolBar>
 
 #include "widgets/RangeImageView.h"
+#include "widgets/StepApprovalPanel.h"
 #include "widgets/TerrainView.h"
 
 namespace ambler::widgets {
@@ -22,7 +24,10 @@ MainWindow::MainWindow(QWidget* parent)
       terrain_view_(new TerrainView),
       seed_box_(new QSpinBox),
       scan_action_(new QAction(tr("Take scan"), this)),
+      walk_action_(new QAction(tr("Walk 5 steps"), this)),
+      approval_(new StepApprovalPanel),
       status_(new QLabel),
+      link_status_(new QLabel),
       progress_(new QProgressBar) {
   setWindowTitle(tr("Ambler Ground Station"));
   auto* splitter = new QSplitter(Qt::Horizontal);
@@ -42,11 +47,21 @@ MainWindow::MainWindow(QWidget* parent)
   scan_action_->setToolTip(tr("Acquire a new range image (F5)"));
   toolbar->addAction(scan_action_);
   connect(scan_action_, &QAction::triggered, this, [this] { emit scanRequested(seed()); });
+  walk_action_->setToolTip(
+      tr("Walk the rover five steps; each waits for your approval unless auto-approve is on"));
+  toolbar->addAction(walk_action_);
+  connect(walk_action_, &QAction::triggered, this, &MainWindow::walkRequested);
+
+  auto* dock = new QDockWidget(tr("Step approval"), this);
+  dock->setObjectName("step-approval-dock");  // for saveState/restoreState
+  dock->setWidget(approval_);
+  addDockWidget(Qt::RightDockWidgetArea, dock);
 
   progress_->setRange(0, 0);  // busy indicator: scans have no fraction to show
   progress_->setMaximumWidth(140);
   progress_->hide();
   statusBar()->addWidget(status_, 1);
+  statusBar()->addPermanentWidget(link_status_);
   statusBar()->addPermanentWidget(progress_);
   connect(range_view_, &RangeImageView::readoutChanged, this, [this](const QString& text) {
     if (!text.isEmpty())
@@ -77,6 +92,11 @@ void MainWindow::showScan(const ScanDisplay& display) {
                        .arg(t.y(), 0, 'f', 2)
                        .arg(t.z(), 0, 'f', 2)
                        .arg(display.scan_ms, 0, 'f', 0));
+}
+
+void MainWindow::setLinkStatus(const QString& text, bool stale) {
+  link_status_->setText(text);
+  link_status_->setStyleSheet(stale ? "color:#b71c1c;font-weight:bold" : "");
 }
 
 void MainWindow::showError(const QString& message) {

@@ -12,6 +12,7 @@ class QAction;
 namespace ambler::widgets {
 
 class RangeImageView;
+class StepApprovalPanel;
 class TerrainView;
 
 // The operator's main window: the latest range image beside the terrain in
@@ -32,9 +33,14 @@ class MainWindow : public QMainWindow {
   RangeImageView* rangeView() const { return range_view_; }
   TerrainView* terrainView() const { return terrain_view_; }
   QAction* scanAction() const { return scan_action_; }
+  QAction* walkAction() const { return walk_action_; }
+  StepApprovalPanel* approvalPanel() const { return approval_; }
+  // "simulator in this process: last data 0.4 s ago"; stale shows in red.
+  void setLinkStatus(const QString& text, bool stale);
 
  signals:
   void scanRequested(quint64 seed);
+  void walkRequested();
 
  protected:
   void closeEvent(QCloseEvent* e) override;
@@ -44,7 +50,10 @@ class MainWindow : public QMainWindow {
   TerrainView* terrain_view_;
   QSpinBox* seed_box_;
   QAction* scan_action_;
+  QAction* walk_action_;
+  StepApprovalPanel* approval_;
   QLabel* status_;
+  QLabel* link_status_;
   QProgressBar* progress_;
 };
 

@@ -39,7 +39,9 @@ WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, Appr
 void WalkExecutive::start(double now_s, bool end_hold) {
   walk_task_ = tasks_.add(-1, TaskKind::kGoal, "walk " + std::to_string(opt_.steps) + " steps");
   tasks_.start(walk_task_, now_s);
-  end_hold_ = end_hold;
+  // The rover answers a Resume with its whole state, which a console that
+  // came after the rover's first report needs.
+  if (end_hold) endHold(now_s);
   phase_ = Phase::kConnecting;
 }
 
@@ -84,7 +86,6 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   if (phase_ == Phase::kIdle) return;
   if (phase_ == Phase::kConnecting) {
     if (!reported_) return;
-    if (end_hold_) endHold(now_s);
     requestScan(now_s);
   }
   // Even when done or suspended: the rover holds when the ground falls silent.

@@ -70,7 +70,8 @@ class WalkExecutive {
 
   // The walk goal: asks for a first scan once the rover's state has come
   // (the link works); with `end_hold`, ends a hold the rover may be in
-  // first (the operator chose to walk it again).
+  // first (the operator chose to walk it again), which also brings the
+  // rover's whole state again.
   void start(double now_s, bool end_hold = false);
   // Reads what arrived (waiting up to `wait`), reacts, and sends what the
   // gate released. Call it often.
@@ -140,7 +141,6 @@ class WalkExecutive {
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
-  bool end_hold_ = false;
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
   double scan_time_s_ = 0.0;                // its rover time

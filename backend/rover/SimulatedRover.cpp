@@ -93,9 +93,11 @@ std::string SimulatedRover::execute(const link::Command& command, double now_s,
     holding_ = "Hold from " + command.operator_id;
     out.push_back(heartbeat(now_s));
     return {};
-  } else {  // Resume
+  } else {  // Resume: and the whole state, for a console that joins now
     holding_.clear();
     out.push_back(heartbeat(now_s));
+    const auto states = state(now_s);
+    out.insert(out.end(), states.begin(), states.end());
     return {};
   }
   const auto states = state(now_s);

@@ -111,7 +111,9 @@ TEST(SimulatedRover, ForgedReplayedAndReorderedCommandsMoveNothing) {
 }
 
 const link::Heartbeat& heartbeatOf(const std::vector<link::Telemetry>& out) {
-  return std::get<link::Heartbeat>(out.at(out.size() - 1).body);
+  for (const auto& t : out)
+    if (const auto* h = std::get_if<link::Heartbeat>(&t.body)) return *h;
+  throw std::runtime_error("no heartbeat");
 }
 
 TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
@@ -144,6 +146,7 @@ TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
   out = rover.handle(command(link::Resume{}, &signer), 111.0);
   EXPECT_TRUE(ackOf(out).accepted);
   EXPECT_FALSE(heartbeatOf(out).holding);
+  EXPECT_EQ(out.size(), 1u + 1u + gait::kLegCount + 1u);  // ack, heartbeat, the whole state
   EXPECT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 112.0)).accepted);
 
   // An operator's Hold holds the same way.

@@ -1,0 +1,54 @@
+#pragma once
+
+#include <QWidget>
+#include <optional>
+
+#include "executive/ApprovalGate.h"
+
+class QCheckBox;
+class QLabel;
+class QPushButton;
+class QTableWidget;
+
+namespace ambler::widgets {
+
+// The step waiting for the operator (issue 7): leg, foothold, body advance,
+// stability margin and every interlock with its figures, with Approve and
+// Reject and the auto-approve switch, which turns the panel's banner red
+// while it is on. It shows what it is given and says what the operator
+// decided; the executive does the rest.
+class StepApprovalPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit StepApprovalPanel(QWidget* parent = nullptr);
+
+  // Nothing: no step is waiting; the buttons are disabled.
+  void showProposal(const std::optional<executive::StepProposal>& proposal);
+  // What the walk is doing ("waiting for the rover", "executing", ...).
+  void setPhase(const QString& phase);
+  void setAutoApprove(bool on);
+
+  QPushButton* approveButton() const { return approve_; }
+  QPushButton* rejectButton() const { return reject_; }
+  QCheckBox* autoApproveSwitch() const { return auto_approve_; }
+  QTableWidget* interlockTable() const { return interlocks_; }
+  QLabel* banner() const { return banner_; }
+
+ signals:
+  void approveRequested(quint64 proposal);
+  void rejectRequested(quint64 proposal);
+  void autoApproveChanged(bool on);
+
+ private:
+  std::optional<quint64> shown_;
+  QLabel* banner_;
+  QLabel* phase_;
+  QLabel* summary_;
+  QTableWidget* interlocks_;
+  QPushButton* approve_;
+  QPushButton* reject_;
+  QCheckBox* auto_approve_;
+};
+
+}  // namespace ambler::widgets
