@@ -10,8 +10,10 @@
 #include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QTabWidget>
 #include <QToolBar>
 
+#include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TerrainView.h"
@@ -26,14 +28,18 @@ MainWindow::MainWindow(QWidget* parent)
       scan_action_(new QAction(tr("Take scan"), this)),
       walk_action_(new QAction(tr("Walk 5 steps"), this)),
       approval_(new StepApprovalPanel),
+      map_view_(new MapView),
+      views_(new QTabWidget),
       status_(new QLabel),
       link_status_(new QLabel),
       progress_(new QProgressBar) {
   setWindowTitle(tr("Ambler Ground Station"));
   auto* splitter = new QSplitter(Qt::Horizontal);
-  splitter->addWidget(range_view_);
+  views_->addTab(range_view_, tr("Range image"));
+  views_->addTab(map_view_, tr("Terrain map"));
+  splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);
-  splitter->setStretchFactor(0, 2);
+  splitter->setStretchFactor(0, 3);
   splitter->setStretchFactor(1, 3);
   setCentralWidget(splitter);
 
@@ -63,12 +69,14 @@ MainWindow::MainWindow(QWidget* parent)
   statusBar()->addWidget(status_, 1);
   statusBar()->addPermanentWidget(link_status_);
   statusBar()->addPermanentWidget(progress_);
-  connect(range_view_, &RangeImageView::readoutChanged, this, [this](const QString& text) {
+  auto readout = [this](const QString& text) {
     if (!text.isEmpty())
       statusBar()->showMessage(text);
     else
       statusBar()->clearMessage();
-  });
+  };
+  connect(range_view_, &RangeImageView::readoutChanged, this, readout);
+  connect(map_view_, &MapView::readoutChanged, this, readout);
 
   QSettings settings;
   restoreGeometry(settings.value("main/geometry").toByteArray());
@@ -93,6 +101,8 @@ void MainWindow::showScan(const ScanDisplay& display) {
                        .arg(t.z(), 0, 'f', 2)
                        .arg(display.scan_ms, 0, 'f', 0));
 }
+
+void MainWindow::showMapView() { views_->setCurrentWidget(map_view_); }
 
 void MainWindow::setLinkStatus(const QString& text, bool stale) {
   link_status_->setText(text);

@@ -13,6 +13,7 @@ namespace ambler::widgets {
 
 class RangeImageView;
 class StepApprovalPanel;
+class MapView;
 class TerrainView;
 
 // The operator's main window: the latest range image beside the terrain in
@@ -35,6 +36,9 @@ class MainWindow : public QMainWindow {
   QAction* scanAction() const { return scan_action_; }
   QAction* walkAction() const { return walk_action_; }
   StepApprovalPanel* approvalPanel() const { return approval_; }
+  MapView* mapView() const { return map_view_; }
+  // Brings the terrain map to the front (a walk started).
+  void showMapView();
   // "simulator in this process: last data 0.4 s ago"; stale shows in red.
   void setLinkStatus(const QString& text, bool stale);
 
@@ -52,6 +56,8 @@ class MainWindow : public QMainWindow {
   QAction* scan_action_;
   QAction* walk_action_;
   StepApprovalPanel* approval_;
+  MapView* map_view_;
+  class QTabWidget* views_;
   QLabel* status_;
   QLabel* link_status_;
   QProgressBar* progress_;

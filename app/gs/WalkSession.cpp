@@ -89,6 +89,13 @@ QString WalkSession::reject(quint64 proposal, const QString& reason) {
   return QString::fromStdString(why);
 }
 
+QString WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
+  const auto why =
+      executive_->editFoothold(proposal, {x_m, y_m}, operator_id_.toStdString(), nowS());
+  emit changed();
+  return QString::fromStdString(why);
+}
+
 void WalkSession::setAutoApprove(bool on) {
   gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
   // A step already waiting is released now if it passes its interlocks.

@@ -26,6 +26,9 @@ class WalkSession : public QObject {
   void start(int steps);
   QString approve(quint64 proposal);  // empty when done, else why not
   QString reject(quint64 proposal, const QString& reason);
+  // The operator moved the pending step's foothold: replanned, interlocks
+  // checked again, still pending.
+  QString editFoothold(quint64 proposal, double x_m, double y_m);
   void setAutoApprove(bool on);
 
   const executive::WalkExecutive& executive() const { return *executive_; }

@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QMessageBox>
+#include <QStatusBar>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "core/Resources.h"
 #include "rendering/VtkView.h"
 #include "widgets/MainWindow.h"
+#include "widgets/MapView.h"
 #include "widgets/StepApprovalPanel.h"
 
 int main(int argc, char** argv) {
@@ -79,7 +81,14 @@ int main(int argc, char** argv) {
   QObject::connect(&session, &ambler::gs::WalkSession::changed, panel, [&] {
     panel->setPhase(QString::fromStdString(phaseName(session.executive().phase())));
     panel->showProposal(session.pending());
+    window.mapView()->setMap(session.executive().map());
+    window.mapView()->setProposal(session.pending());
   });
+  QObject::connect(window.mapView(), &ambler::widgets::MapView::footholdClicked, &session,
+                   [&](quint64 id, double x, double y) {
+                     if (const auto why = session.editFoothold(id, x, y); !why.isEmpty())
+                       window.statusBar()->showMessage(why, 5000);
+                   });
   QObject::connect(panel, &ambler::widgets::StepApprovalPanel::approveRequested, &session,
                    [&](quint64 id) {
                      if (const auto why = session.approve(id); !why.isEmpty())
@@ -90,8 +99,10 @@ int main(int argc, char** argv) {
       [&](quint64 id) { session.reject(id, QObject::tr("rejected by %1").arg(operator_id)); });
   QObject::connect(panel, &ambler::widgets::StepApprovalPanel::autoApproveChanged, &session,
                    &ambler::gs::WalkSession::setAutoApprove);
-  QObject::connect(&window, &ambler::widgets::MainWindow::walkRequested, &session,
-                   [&] { session.start(5); });
+  QObject::connect(&window, &ambler::widgets::MainWindow::walkRequested, &session, [&] {
+    window.showMapView();
+    session.start(5);
+  });
   QTimer link_timer;
   QObject::connect(&link_timer, &QTimer::timeout, &window, [&] {
     const auto age = session.linkAgeS();
@@ -130,6 +141,9 @@ int main(int argc, char** argv) {
   window.setSeed(seed);
   window.show();
   emit window.scanRequested(seed);
-  if (walk_steps > 0) session.start(walk_steps);
+  if (walk_steps > 0) {
+    window.showMapView();
+    session.start(walk_steps);
+  }
   return app.exec();
 }

@@ -1,0 +1,263 @@
+#include "widgets/MapView.h"
+
+#include <QComboBox>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPainterPath>
+#include <algorithm>
+#include <cmath>
+
+#include "gait/Support.h"
+#include "rendering/ColorMap.h"
+
+namespace ambler::widgets {
+
+namespace {
+
+constexpr int kMargin = 8;
+constexpr int kTop = 36;  // room for the layer switch
+constexpr int kBarWidth = 18;
+constexpr int kBarSpace = 110;
+constexpr int kReadoutHeight = 18;
+constexpr double kHalfViewM = 7.0;  // the view spans the rover's reach and more
+
+QColor toQColor(const std::array<std::uint8_t, 3>& c) { return QColor(c[0], c[1], c[2]); }
+
+const QColor kUnknownColor = toQColor(rendering::kNoDataColor);
+const QColor kShadowColor(120, 40, 140);
+const QColor kKnownColor(200, 200, 200);
+
+QString layerUnit(MapView::Shown shown) {
+  return shown == MapView::Shown::kElevation ? QObject::tr("Elevation [m]")
+                                             : QObject::tr("Sigma [m]");
+}
+
+}  // namespace
+
+MapView::MapView(QWidget* parent) : QWidget(parent), layer_box_(new QComboBox(this)) {
+  layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"), tr("Known / unknown / shadow")});
+  layer_box_->move(kMargin, kMargin);
+  layer_box_->setToolTip(tr("Map layer shown"));
+  connect(layer_box_, &QComboBox::currentIndexChanged, this, [this](int i) { setShown(Shown(i)); });
+  setMouseTracking(true);
+  setMinimumSize(320, 320);
+}
+
+void MapView::setMap(const terrain::ElevationMap& map) {
+  map_ = map;
+  recolor();
+}
+
+void MapView::setProposal(const std::optional<executive::StepProposal>& proposal) {
+  proposal_ = proposal;
+  recolor();  // the view follows the rover
+}
+
+void MapView::setShown(Shown layer) {
+  shown_ = layer;
+  if (layer_box_->currentIndex() != int(layer)) layer_box_->setCurrentIndex(int(layer));
+  recolor();
+}
+
+Box2 MapView::viewBox() const {
+  Eigen::Vector2d centre(0, 0);
+  if (proposal_) centre = proposal_->from.body.xy;
+  return {centre.x() - kHalfViewM, centre.y() - kHalfViewM, centre.x() + kHalfViewM,
+          centre.y() + kHalfViewM};
+}
+
+QRectF MapView::mapRect() const {
+  const double side =
+      std::max(10.0, std::min(width() - 2.0 * kMargin - kBarSpace,
+                              height() - double(kTop) - kMargin - kReadoutHeight - kMargin));
+  return {double(kMargin), double(kTop), side, side};
+}
+
+QPointF MapView::widgetPointOf(const Eigen::Vector2d& w) const {
+  const Box2 b = viewBox();
+  const QRectF r = mapRect();
+  return {r.left() + (w.x() - b.x_min) / (b.x_max - b.x_min) * r.width(),
+          r.bottom() - (w.y() - b.y_min) / (b.y_max - b.y_min) * r.height()};  // north up
+}
+
+std::optional<Eigen::Vector2d> MapView::worldPointAt(const QPointF& p) const {
+  const QRectF r = mapRect();
+  if (!r.contains(p)) return std::nullopt;
+  const Box2 b = viewBox();
+  return Eigen::Vector2d(b.x_min + (p.x() - r.left()) / r.width() * (b.x_max - b.x_min),
+                         b.y_min + (r.bottom() - p.y()) / r.height() * (b.y_max - b.y_min));
+}
+
+// One image pixel per map cell over the view box, coloured by the layer
+// on its range over the view (elevation) or from zero (sigma).
+void MapView::recolor() {
+  colored_ = QImage();
+  if (!map_) return update();
+  const GridSpec& g = map_->grid();
+  const Box2 b = viewBox();
+  const int cols = int(std::lround((b.x_max - b.x_min) / g.resolution));
+  const int rows = int(std::lround((b.y_max - b.y_min) / g.resolution));
+  const auto& values =
+      map_->layer(shown_ == Shown::kSigma ? terrain::layer::kSigma : terrain::layer::kElevation);
+  auto cellAt = [&](int r, int c) -> std::optional<std::pair<int, int>> {
+    const auto cell =
+        g.cellAt(b.x_min + (c + 0.5) * g.resolution, b.y_max - (r + 0.5) * g.resolution);
+    if (!cell) return std::nullopt;
+    return std::pair{cell->row, cell->col};
+  };
+  lo_ = INFINITY, hi_ = -INFINITY;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (const auto cell = cellAt(r, c); cell && map_->isKnown(cell->first, cell->second)) {
+        const float v = values(cell->first, cell->second);
+        lo_ = std::min(lo_, double(v)), hi_ = std::max(hi_, double(v));
+      }
+  if (shown_ == Shown::kSigma) lo_ = 0.0;
+  if (!(hi_ > lo_)) hi_ = lo_ + 1e-3;
+  colored_ = QImage(cols, rows, QImage::Format_RGB32);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const auto cell = cellAt(r, c);
+      QColor color = kUnknownColor;
+      if (cell) {
+        const auto state = map_->state(cell->first, cell->second);
+        if (state == terrain::CellState::kShadow)
+          color = kShadowColor;
+        else if (state == terrain::CellState::kKnown)
+          color = shown_ == Shown::kState
+                      ? kKnownColor
+                      : toQColor(rendering::viridis((values(cell->first, cell->second) - lo_) /
+                                                    (hi_ - lo_)));
+      }
+      colored_.setPixelColor(c, r, color);
+    }
+  update();
+}
+
+void MapView::paintEvent(QPaintEvent*) {
+  QPainter p(this);
+  p.fillRect(rect(), palette().window());
+  if (colored_.isNull()) {
+    p.drawText(rect(), Qt::AlignCenter, tr("No terrain map yet: start a walk"));
+    return;
+  }
+  p.drawImage(mapRect(), colored_);
+  p.setPen(palette().windowText().color());
+  p.drawRect(mapRect());
+  drawProposal(p);
+  drawColorBar(p);
+  const Box2 b = viewBox();
+  p.drawText(
+      QRectF(kMargin, height() - kMargin - kReadoutHeight, width() - 2 * kMargin, kReadoutHeight),
+      Qt::AlignLeft | Qt::AlignVCenter,
+      readout_.isEmpty() ? tr("%1 m x %2 m, north up; click to move the proposed foothold")
+                               .arg(b.x_max - b.x_min, 0, 'f', 0)
+                               .arg(b.y_max - b.y_min, 0, 'f', 0)
+                         : readout_);
+}
+
+void MapView::drawColorBar(QPainter& p) const {
+  const QRectF m = mapRect();
+  const QRectF bar(m.right() + 14, m.top() + 24, kBarWidth, m.height() * 0.6);
+  if (shown_ == Shown::kState) {
+    const std::pair<QColor, QString> keys[] = {
+        {kKnownColor, tr("known")}, {kUnknownColor, tr("unknown")}, {kShadowColor, tr("shadow")}};
+    double y = m.top() + 24;
+    for (const auto& [color, name] : keys) {
+      p.fillRect(QRectF(bar.left(), y, kBarWidth, 12), color);
+      p.drawText(QPointF(bar.left() + kBarWidth + 4, y + 11), name);
+      y += 20;
+    }
+    return;
+  }
+  for (int y = 0; y < int(bar.height()); ++y) {
+    p.setPen(toQColor(rendering::viridis(1.0 - y / bar.height())));
+    p.drawLine(QPointF(bar.left(), bar.top() + y), QPointF(bar.right(), bar.top() + y));
+  }
+  p.setPen(palette().windowText().color());
+  p.drawRect(bar);
+  p.drawText(QPointF(bar.left() - 4, m.top() + 12), layerUnit(shown_));
+  for (int i = 0; i <= 4; ++i) {
+    const double value = hi_ - i * (hi_ - lo_) / 4;
+    const double y = bar.top() + i * bar.height() / 4;
+    p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 4, y));
+    p.drawText(QPointF(bar.right() + 7, y + 4), QString::number(value, 'f', 2));
+  }
+  const QRectF none(bar.left(), bar.bottom() + 10, kBarWidth, 10);
+  p.fillRect(none, kUnknownColor);
+  p.drawText(QPointF(none.right() + 4, none.bottom()), tr("unknown"));
+  p.fillRect(none.translated(0, 16), kShadowColor);
+  p.drawText(QPointF(none.right() + 4, none.bottom() + 16), tr("shadow"));
+}
+
+// The supporting feet (white), the conservative support polygon of the
+// stance the step starts from (cyan), the body centre, and the foothold
+// (a red ring the size of the foot disk's centre mark).
+void MapView::drawProposal(QPainter& p) const {
+  if (!proposal_) return;
+  p.save();
+  p.setRenderHint(QPainter::Antialiasing);
+  const auto& from = proposal_->from;
+  std::vector<Eigen::Vector2d> supporting;
+  for (std::size_t i = 0; i < from.feet.size(); ++i)
+    if (from.supporting[i]) supporting.push_back(from.feet[i].head<2>());
+  const auto csp = gait::conservativeSupportPolygon(supporting);
+  if (!csp.empty()) {
+    QPolygonF polygon;
+    for (const auto& v : csp) polygon << widgetPointOf(v);
+    p.setPen(QPen(QColor(0, 230, 255), 2));
+    p.setBrush(QColor(0, 230, 255, 40));
+    p.drawPolygon(polygon);
+  }
+  p.setBrush(Qt::white);
+  p.setPen(QPen(Qt::black, 1));
+  for (const auto& f : supporting) p.drawEllipse(widgetPointOf(f), 4, 4);
+  p.setBrush(Qt::NoBrush);
+  p.setPen(QPen(Qt::white, 2));
+  const QPointF body = widgetPointOf(from.body.xy);
+  p.drawLine(body - QPointF(6, 0), body + QPointF(6, 0));
+  p.drawLine(body - QPointF(0, 6), body + QPointF(0, 6));
+  if (proposal_->plan.leg >= 0) {
+    const QPointF foot = widgetPointOf(proposal_->plan.foothold.head<2>());
+    p.setPen(QPen(proposal_->interlocks.passed() ? QColor(255, 60, 60) : QColor(255, 160, 0), 3));
+    p.drawEllipse(foot, 7, 7);
+  }
+  p.restore();
+}
+
+void MapView::mouseMoveEvent(QMouseEvent* e) {
+  const auto w = worldPointAt(e->position());
+  QString text;
+  if (w && map_) {
+    text = tr("x %1, y %2 m").arg(w->x(), 0, 'f', 2).arg(w->y(), 0, 'f', 2);
+    if (const auto cell = map_->grid().cellAt(w->x(), w->y())) {
+      const int r = cell->row, c = cell->col;
+      switch (map_->state(r, c)) {
+        case terrain::CellState::kKnown:
+          text += tr(" | elevation %1 m, sigma %2 m")
+                      .arg(map_->elevation(r, c), 0, 'f', 3)
+                      .arg(map_->sigma(r, c), 0, 'f', 3);
+          break;
+        case terrain::CellState::kShadow:
+          text += tr(" | range shadow");
+          break;
+        case terrain::CellState::kUnknown:
+          text += tr(" | unknown");
+          break;
+      }
+    }
+  }
+  if (text != readout_) {
+    readout_ = text;
+    emit readoutChanged(text);
+    update();
+  }
+}
+
+void MapView::mousePressEvent(QMouseEvent* e) {
+  const auto w = worldPointAt(e->position());
+  if (e->button() == Qt::LeftButton && w && proposal_ && proposal_->plan.leg >= 0)
+    emit footholdClicked(proposal_->id, w->x(), w->y());
+}
+
+}  // namespace ambler::widgets
