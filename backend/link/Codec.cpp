@@ -223,19 +223,30 @@ CommandAck get(Reader& r) {
   m.reason = r.getText("ack reason");
   return m;
 }
+// An image's rows and columns, each 1..kMaxImageSide.
+std::pair<std::uint32_t, std::uint32_t> getImageSize(Reader& r, const std::string& kind) {
+  const auto rows = r.get<std::uint32_t>("image rows"), cols = r.get<std::uint32_t>("image cols");
+  if (rows == 0 || cols == 0 || rows > kMaxImageSide || cols > kMaxImageSide)
+    r.fail(kind + " of " + std::to_string(rows) + " x " + std::to_string(cols) + " pixels (1.." +
+           std::to_string(kMaxImageSide) + " each way)");
+  return {rows, cols};
+}
+
+// The top three rows of a rigid pose, row-major.
+void getPose(Reader& r, Eigen::Isometry3d& pose, const char* what) {
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 4; ++c) pose.matrix()(i, c) = r.getFinite(what);
+}
+
 template <>
 sensor::RangeImage get(Reader& r) {
   sensor::RangeImage m;
   auto& g = m.geometry;
-  const auto rows = r.get<std::uint32_t>("image rows"), cols = r.get<std::uint32_t>("image cols");
-  if (rows == 0 || cols == 0 || rows > kMaxImageSide || cols > kMaxImageSide)
-    r.fail("range image of " + std::to_string(rows) + " x " + std::to_string(cols) +
-           " pixels (1.." + std::to_string(kMaxImageSide) + " each way)");
+  const auto [rows, cols] = getImageSize(r, "range image");
   g.rows = int(rows), g.cols = int(cols);
   g.phi_first = r.getFinite("phi_first"), g.phi_step = r.getFinite("phi_step");
   g.theta_first = r.getFinite("theta_first"), g.theta_step = r.getFinite("theta_step");
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) m.sensor_to_world.matrix()(i, c) = r.getFinite("sensor pose");
+  getPose(r, m.sensor_to_world, "sensor pose");
   m.range_sigma_k = r.getFinite("range_sigma_k");
   const bool has_reflectance = r.getBool("reflectance flag");
   m.range.resize(std::size_t(rows) * cols);
@@ -277,15 +288,11 @@ template <>
 sensor::StriperImage get(Reader& r) {
   sensor::StriperImage m;
   auto& k = m.camera;
-  const auto rows = r.get<std::uint32_t>("image rows"), cols = r.get<std::uint32_t>("image cols");
-  if (rows == 0 || cols == 0 || rows > kMaxImageSide || cols > kMaxImageSide)
-    r.fail("striper image of " + std::to_string(rows) + " x " + std::to_string(cols) +
-           " pixels (1.." + std::to_string(kMaxImageSide) + " each way)");
+  const auto [rows, cols] = getImageSize(r, "striper image");
   k.rows = int(rows), k.cols = int(cols);
   k.fx = r.getFinite("fx"), k.fy = r.getFinite("fy");
   k.cx = r.getFinite("cx"), k.cy = r.getFinite("cy");
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) k.camera_to_world.matrix()(i, c) = r.getFinite("camera pose");
+  getPose(r, k.camera_to_world, "camera pose");
   for (int i = 0; i < 3; ++i) m.projector_position[i] = r.getFinite("projector position");
   const char* names[] = {"X", "Y", "Z", "intensity"};
   int i = 0;
