@@ -137,6 +137,27 @@ int getLeg(Reader& r) {
   return leg;
 }
 
+// The top three rows of a rigid pose, row-major.
+void putPose(Writer& w, const Eigen::Isometry3d& pose) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) w.put(pose.matrix()(r, c));
+}
+
+void getPose(Reader& r, Eigen::Isometry3d& pose, const char* what) {
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 4; ++c) pose.matrix()(i, c) = r.getFinite(what);
+}
+
+void putFloats(Writer& w, const std::vector<float>& values) {
+  w.putRaw(reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(float));
+}
+
+// `n` float32 values into `values`.
+void getFloats(Reader& r, std::vector<float>& values, std::size_t n, const char* what) {
+  values.resize(n);
+  r.getRaw(reinterpret_cast<std::uint8_t*>(values.data()), n * sizeof(float), what);
+}
+
 // ---- bodies ----
 
 void put(Writer& w, const Heartbeat& m) { w.put(m.count), w.put(m.holding), w.put(m.hold_reason); }
@@ -153,13 +174,11 @@ void put(Writer& w, const sensor::RangeImage& m) {
   const auto& g = m.geometry;
   w.put(std::uint32_t(g.rows)), w.put(std::uint32_t(g.cols));
   w.put(g.phi_first), w.put(g.phi_step), w.put(g.theta_first), w.put(g.theta_step);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) w.put(m.sensor_to_world.matrix()(r, c));
+  putPose(w, m.sensor_to_world);
   w.put(m.range_sigma_k);
   w.put(!m.reflectance.empty());
-  w.putRaw(reinterpret_cast<const std::uint8_t*>(m.range.data()), m.range.size() * sizeof(float));
-  w.putRaw(reinterpret_cast<const std::uint8_t*>(m.reflectance.data()),
-           m.reflectance.size() * sizeof(float));
+  putFloats(w, m.range);
+  putFloats(w, m.reflectance);
 }
 void put(Writer& w, const LegMove& m) {
   w.put(std::uint8_t(m.leg)), w.put(std::uint16_t(m.waypoints.size()));
@@ -175,12 +194,9 @@ void put(Writer& w, const sensor::StriperImage& m) {
   const auto& k = m.camera;
   w.put(std::uint32_t(k.rows)), w.put(std::uint32_t(k.cols));
   w.put(k.fx), w.put(k.fy), w.put(k.cx), w.put(k.cy);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) w.put(k.camera_to_world.matrix()(r, c));
+  putPose(w, k.camera_to_world);
   for (int i = 0; i < 3; ++i) w.put(m.projector_position[i]);
-  for (const auto* channel : {&m.x, &m.y, &m.z, &m.intensity})
-    w.putRaw(reinterpret_cast<const std::uint8_t*>(channel->data()),
-             channel->size() * sizeof(float));
+  for (const auto* channel : {&m.x, &m.y, &m.z, &m.intensity}) putFloats(w, *channel);
 }
 void put(Writer& w, const AcquireScan& m) { w.put(std::uint8_t(m.sensor)); }
 void put(Writer&, const Hold&) {}
@@ -232,12 +248,6 @@ std::pair<std::uint32_t, std::uint32_t> getImageSize(Reader& r, const std::strin
   return {rows, cols};
 }
 
-// The top three rows of a rigid pose, row-major.
-void getPose(Reader& r, Eigen::Isometry3d& pose, const char* what) {
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) pose.matrix()(i, c) = r.getFinite(what);
-}
-
 template <>
 sensor::RangeImage get(Reader& r) {
   sensor::RangeImage m;
@@ -249,14 +259,9 @@ sensor::RangeImage get(Reader& r) {
   getPose(r, m.sensor_to_world, "sensor pose");
   m.range_sigma_k = r.getFinite("range_sigma_k");
   const bool has_reflectance = r.getBool("reflectance flag");
-  m.range.resize(std::size_t(rows) * cols);
-  r.getRaw(reinterpret_cast<std::uint8_t*>(m.range.data()), m.range.size() * sizeof(float),
-           "ranges");
-  if (has_reflectance) {
-    m.reflectance.resize(m.range.size());
-    r.getRaw(reinterpret_cast<std::uint8_t*>(m.reflectance.data()),
-             m.reflectance.size() * sizeof(float), "reflectance");
-  }
+  const std::size_t pixels = std::size_t(rows) * cols;
+  getFloats(r, m.range, pixels, "ranges");
+  if (has_reflectance) getFloats(r, m.reflectance, pixels, "reflectance");
   if (const auto problem = sensor::findProblem(m); !problem.empty()) r.fail(problem);
   return m;
 }
@@ -294,13 +299,11 @@ sensor::StriperImage get(Reader& r) {
   k.cx = r.getFinite("cx"), k.cy = r.getFinite("cy");
   getPose(r, k.camera_to_world, "camera pose");
   for (int i = 0; i < 3; ++i) m.projector_position[i] = r.getFinite("projector position");
-  const char* names[] = {"X", "Y", "Z", "intensity"};
-  int i = 0;
-  for (auto* channel : {&m.x, &m.y, &m.z, &m.intensity}) {
-    channel->resize(std::size_t(rows) * cols);
-    r.getRaw(reinterpret_cast<std::uint8_t*>(channel->data()), channel->size() * sizeof(float),
-             names[i++]);
-  }
+  const std::size_t pixels = std::size_t(rows) * cols;
+  getFloats(r, m.x, pixels, "X");
+  getFloats(r, m.y, pixels, "Y");
+  getFloats(r, m.z, pixels, "Z");
+  getFloats(r, m.intensity, pixels, "intensity");
   if (const auto problem = sensor::findProblem(m); !problem.empty()) r.fail(problem);
   return m;
 }
