@@ -40,7 +40,6 @@ class AckPrinter : public link::Link {
   }
   std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override {
     auto in = inner_.receive(timeout);
-    if (!in.empty()) health.heard(missionlog::groundClockS());
     for (const auto& t : in)
       if (const auto* a = std::get_if<link::CommandAck>(&t.body))
         printLine({{"ack", a->sequence},
@@ -50,7 +49,6 @@ class AckPrinter : public link::Link {
     return in;
   }
   std::string describe() const override { return inner_.describe(); }
-  link::LinkHealth health;
 
  private:
   link::Link& inner_;
@@ -71,7 +69,9 @@ int drive(const DriveArgs& a) {
   missionlog::MissionLog log(a.log, "drive rover " + std::to_string(a.rover_id));
   link::dds::DdsLink dds(a.domain, a.rover_id);
   missionlog::RecordingLink recording(dds, log);
-  AckPrinter link(recording);
+  link::LinkHealth health;
+  link::WatchedLink watched(recording, health, missionlog::groundClockS);
+  AckPrinter link(watched);
   executive::ApprovalGate gate([&](const missionlog::Decision& d) { log.record(d); });
   gate.setMode(executive::ApprovalMode::kAutoApprove);
   executive::ExecutiveOptions options;
@@ -91,9 +91,9 @@ int drive(const DriveArgs& a) {
   while (stopped.empty()) {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
-    if (link.health.stale(now_s) != stale) {
+    if (health.stale(now_s) != stale) {
       stale = !stale;
-      const auto age = link.health.ageS(now_s);
+      const auto age = health.ageS(now_s);
       printLine({{"link", stale ? "stale" : "fresh"},
                  {"age_s", age ? nlohmann::json(*age) : nlohmann::json()},
                  {"t_s", now_s - start_s}});

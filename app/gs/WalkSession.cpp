@@ -9,25 +9,6 @@ namespace ambler::gs {
 
 namespace {
 
-// Notes when the rover last spoke, for the link's age in the status bar.
-class WatchedLink : public link::Link {
- public:
-  WatchedLink(link::Link& inner, link::LinkHealth& health, std::function<double()> clock)
-      : inner_(inner), health_(health), clock_(std::move(clock)) {}
-  void send(const link::Command& command) override { inner_.send(command); }
-  std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override {
-    auto in = inner_.receive(timeout);
-    if (!in.empty()) health_.heard(clock_());
-    return in;
-  }
-  std::string describe() const override { return inner_.describe(); }
-
- private:
-  link::Link& inner_;
-  link::LinkHealth& health_;
-  std::function<double()> clock_;
-};
-
 link::OperatorKey sessionKey(const QString& operator_id) {
   std::random_device random;
   std::vector<std::uint8_t> key(32);
@@ -45,7 +26,7 @@ WalkSession::WalkSession(const walk::WalkConfig& config, std::uint64_t seed,
   options.seed = seed;
   options.operators = {key};
   rover_ = std::make_unique<rover::InProcessLink>(config, options);
-  link_ = std::make_unique<WatchedLink>(*rover_, health_, [this] { return nowS(); });
+  link_ = std::make_unique<link::WatchedLink>(*rover_, health_, [this] { return nowS(); });
   signer_ = std::make_unique<link::CommandSigner>(key);
   executive_ = std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_);
   connect(&timer_, &QTimer::timeout, this, &WalkSession::poll);

@@ -6,6 +6,7 @@
 // program cannot tell apart.
 
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -52,6 +53,25 @@ class LinkHealth {
  private:
   double stale_after_s_;
   std::optional<double> last_s_;
+};
+
+// Any link, noting in a LinkHealth when the rover last spoke.
+class WatchedLink : public Link {
+ public:
+  WatchedLink(Link& inner, LinkHealth& health, std::function<double()> clock)
+      : inner_(inner), health_(health), clock_(std::move(clock)) {}
+  void send(const Command& command) override { inner_.send(command); }
+  std::vector<Telemetry> receive(std::chrono::milliseconds timeout) override {
+    auto in = inner_.receive(timeout);
+    if (!in.empty()) health_.heard(clock_());
+    return in;
+  }
+  std::string describe() const override { return inner_.describe(); }
+
+ private:
+  Link& inner_;
+  LinkHealth& health_;
+  std::function<double()> clock_;
 };
 
 }  // namespace ambler::link

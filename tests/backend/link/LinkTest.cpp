@@ -15,5 +15,35 @@ TEST(LinkHealth, StaleWithoutDataAndAfterTheTimeout) {
   EXPECT_TRUE(health.stale(13.1));
 }
 
+// Answers one message on the second call, nothing otherwise.
+class OneMessageLink : public Link {
+ public:
+  void send(const Command&) override {}
+  std::vector<Telemetry> receive(std::chrono::milliseconds) override {
+    if (++calls_ != 2) return {};
+    return {Telemetry{1, 0.0, Heartbeat{1, false, {}}}};
+  }
+  std::string describe() const override { return "one message"; }
+
+ private:
+  int calls_ = 0;
+};
+
+TEST(WatchedLink, NotesWhenTheRoverLastSpoke) {
+  OneMessageLink inner;
+  LinkHealth health(3.0);
+  double now = 100.0;
+  WatchedLink link(inner, health, [&] { return now; });
+  EXPECT_TRUE(link.receive(std::chrono::milliseconds(0)).empty());
+  EXPECT_FALSE(health.ageS(now).has_value());  // nothing heard yet
+  now = 101.0;
+  EXPECT_EQ(link.receive(std::chrono::milliseconds(0)).size(), 1u);
+  now = 105.0;
+  EXPECT_TRUE(link.receive(std::chrono::milliseconds(0)).empty());
+  EXPECT_DOUBLE_EQ(*health.ageS(now), 4.0);  // silence does not count as hearing
+  EXPECT_TRUE(health.stale(now));
+  EXPECT_EQ(link.describe(), "one message");
+}
+
 }  // namespace
 }  // namespace ambler::link
