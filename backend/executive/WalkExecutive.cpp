@@ -112,13 +112,12 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
 
 void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
   if (message.rover_id != opt_.rover_id) return;
-  if (const auto* s = std::get_if<link::LegState>(&message.body)) {
-    if (s->leg >= 0 && s->leg < gait::kLegCount) legs_[std::size_t(s->leg)] = *s;
-    updateReported();
-  } else if (const auto* b = std::get_if<link::BodyState>(&message.body)) {
-    body_ = *b;
-    state_fresh_ = true;  // the rover reports the body last
-    updateReported();
+  if (std::holds_alternative<link::LegState>(message.body) ||
+      std::holds_alternative<link::BodyState>(message.body)) {
+    report_.take(message);
+    // The rover reports the body last.
+    if (std::holds_alternative<link::BodyState>(message.body)) state_fresh_ = true;
+    if (auto stance = report_.stance(ctx_.model)) reported_ = stance;
   } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
     onAck(*a, now_s);
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
@@ -126,19 +125,6 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
   } else if (const auto* image = std::get_if<sensor::RangeImage>(&message.body)) {
     if (phase_ == Phase::kScanning) scan_ = *image, scan_time_s_ = message.time_s;
   }
-}
-
-void WalkExecutive::updateReported() {
-  if (!body_) return;
-  gait::Stance s;
-  s.body = {{body_->x_m, body_->y_m}, body_->heading_rad, body_->z_m};
-  for (int i = 0; i < gait::kLegCount; ++i) {
-    const auto& leg = legs_[std::size_t(i)];
-    if (!leg) return;
-    s.feet[std::size_t(i)] = s.body.toWorld(ctx_.model.footInBody(i, leg->joints));
-    s.supporting[std::size_t(i)] = leg->contact;
-  }
-  reported_ = s;
 }
 
 // Harmless when the rover does not hold. Not awaited, as the scan that

@@ -20,6 +20,7 @@
 
 #include "core/Region.h"
 #include "executive/ApprovalGate.h"
+#include "executive/ReportedStance.h"
 #include "executive/TaskTree.h"
 #include "link/Link.h"
 #include "link/Signing.h"
@@ -100,7 +101,6 @@ class WalkExecutive {
   void onAck(const link::CommandAck& ack, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
   void endHold(double now_s);
-  void updateReported();
   void requestScan(double now_s);
   void planAndPropose(double now_s);
   void planAhead(double now_s);
@@ -129,8 +129,7 @@ class WalkExecutive {
   std::uint64_t next_proposal_ = 1;
   // Where the rover reports its legs and body; filled by the state
   // telemetry that follows every move.
-  std::array<std::optional<link::LegState>, gait::kLegCount> legs_{};
-  std::optional<link::BodyState> body_;
+  RoverReport report_;
   std::optional<gait::Stance> reported_;
   // The step being carried out: its commands, the next to send, the one
   // awaiting its acknowledgement and since when.

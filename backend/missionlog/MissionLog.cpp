@@ -262,4 +262,11 @@ std::vector<Decision> MissionLogReader::decisions() const {
   return out;
 }
 
+std::vector<LoggedProduct> MissionLogReader::products() const {
+  Statement s(db_, "SELECT time_s, kind, parameters, data FROM products ORDER BY time_s, id");
+  std::vector<LoggedProduct> out;
+  while (s.step()) out.push_back({s.real(0), s.text(1), s.text(2), s.blob(3)});
+  return out;
+}
+
 }  // namespace ambler::missionlog

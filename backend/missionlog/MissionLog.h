@@ -38,6 +38,15 @@ struct Decision {
   std::string detail;  // what was proposed or edited, free text or JSON
 };
 
+// A derived product (a map, a fit) as logged: what it is, the parameters
+// that recompute it from the logged messages, and its data if stored.
+struct LoggedProduct {
+  double time_s = 0.0;
+  std::string kind;        // "elevation_map", ...
+  std::string parameters;  // JSON
+  link::Bytes data;
+};
+
 struct LoggedMessage {
   std::int64_t id = 0;
   double time_s = 0.0;  // ground clock when it was sent or received
@@ -101,6 +110,7 @@ class MissionLogReader {
   // Messages with from_s <= time_s < to_s, in time order.
   std::vector<LoggedMessage> messages(double from_s, double to_s) const;
   std::vector<Decision> decisions() const;
+  std::vector<LoggedProduct> products() const;  // in time order
 
  private:
   Database db_;

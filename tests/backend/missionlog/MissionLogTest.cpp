@@ -74,6 +74,13 @@ TEST_F(MissionLogTest, RecordsComeBackInTimeOrderAndAreSummarised) {
   ASSERT_EQ(decisions.size(), 3u);
   EXPECT_EQ(decisions[1].detail, "foothold in shadow");
   EXPECT_EQ(decisions[2].verdict, Verdict::kEdited);
+
+  const auto products = reader.products();
+  ASSERT_EQ(products.size(), 1u);
+  EXPECT_EQ(products[0].kind, "elevation_map");
+  EXPECT_EQ(products[0].parameters, "{\"resolution\": 0.1}");
+  EXPECT_DOUBLE_EQ(products[0].time_s, 10.6);
+  EXPECT_TRUE(products[0].data.empty());
 }
 
 TEST_F(MissionLogTest, ReopeningAppendsWithoutLosingRecords) {

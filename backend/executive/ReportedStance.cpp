@@ -1,0 +1,26 @@
+#include "executive/ReportedStance.h"
+
+namespace ambler::executive {
+
+void RoverReport::take(const link::Telemetry& message) {
+  if (const auto* leg = std::get_if<link::LegState>(&message.body)) {
+    if (leg->leg >= 0 && leg->leg < gait::kLegCount) legs[std::size_t(leg->leg)] = *leg;
+  } else if (const auto* b = std::get_if<link::BodyState>(&message.body)) {
+    body = *b;
+  }
+}
+
+std::optional<gait::Stance> RoverReport::stance(const gait::RoverModel& model) const {
+  if (!body) return std::nullopt;
+  gait::Stance s;
+  s.body = {{body->x_m, body->y_m}, body->heading_rad, body->z_m};
+  for (int i = 0; i < gait::kLegCount; ++i) {
+    const auto& leg = legs[std::size_t(i)];
+    if (!leg) return std::nullopt;
+    s.feet[std::size_t(i)] = s.body.toWorld(model.footInBody(i, leg->joints));
+    s.supporting[std::size_t(i)] = leg->contact;
+  }
+  return s;
+}
+
+}  // namespace ambler::executive

@@ -1,0 +1,181 @@
+#include "replay/MissionTimeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "executive/WalkExecutive.h"
+#include "io/Json.h"
+#include "link/Codec.h"
+#include "missionlog/MissionLog.h"
+#include "terrain/Locus.h"
+#include "terrain/Merge.h"
+
+namespace ambler::replay {
+
+namespace {
+
+// The grid the executive mapped on, from its first logged map; the
+// executive's default when the log has none.
+GridSpec mapGrid(const std::vector<missionlog::LoggedProduct>& products,
+                 const std::filesystem::path& log) {
+  for (const auto& p : products) {
+    if (p.kind != "elevation_map") continue;
+    nlohmann::json json;
+    try {
+      json = nlohmann::json::parse(p.parameters);
+    } catch (const nlohmann::json::exception& e) {
+      throw io::FormatError(log.string() + ": elevation_map parameters: " + e.what());
+    }
+    const io::JsonFields fields(json, log.string() + ": elevation_map parameters");
+    GridSpec grid = io::readGridPlacement(fields);
+    grid.rows = fields.integer("rows"), grid.cols = fields.integer("cols");
+    if (grid.rows <= 0 || grid.cols <= 0 || grid.rows * std::int64_t(grid.cols) > 50'000'000)
+      fields.fail("rows", "a map of " + std::to_string(grid.rows) + " x " +
+                              std::to_string(grid.cols) + " cells is not plausible");
+    return grid;
+  }
+  const executive::ExecutiveOptions defaults;
+  return GridSpec::covering(defaults.map_extent, defaults.map_resolution_m);
+}
+
+std::string describe(const link::CommandBody& body) {
+  std::ostringstream s;
+  s.precision(3);
+  s << link::typeName(body);
+  if (const auto* m = std::get_if<link::LegMove>(&body)) {
+    s << " leg " << m->leg << ", " << m->waypoints.size() << " waypoints";
+  } else if (const auto* b = std::get_if<link::BodyMove>(&body)) {
+    s << std::fixed << " (" << b->x_m << ", " << b->y_m << ") m, " << b->rotation_rad * 180.0 / M_PI
+      << " deg";
+  } else if (const auto* g = std::get_if<link::Grasp>(&body)) {
+    s << std::fixed << " at (" << g->x_m << ", " << g->y_m << ", " << g->z_m << ") m";
+  } else if (const auto* a = std::get_if<link::AcquireScan>(&body)) {
+    s << (a->sensor == link::ScanSensor::kLightStriper ? " light-striper" : " range scanner");
+  }
+  return s.str();
+}
+
+// Commands in order, each answered by the acknowledgement with its
+// operator and sequence. Heartbeats show only when refused.
+class RowBuilder {
+ public:
+  void command(double t, const link::Command& c) {
+    const bool heartbeat = std::holds_alternative<link::GroundHeartbeat>(c.body);
+    if (heartbeat) {
+      heartbeats_[{c.operator_id, c.sequence}] = {t, describe(c.body)};
+      return;
+    }
+    open_[{c.operator_id, c.sequence}] = rows.size();
+    rows.push_back({t, c.operator_id, describe(c.body), "no answer", ""});
+  }
+  void ack(double t, const link::CommandAck& a) {
+    const std::pair key{a.operator_id, a.sequence};
+    const std::string outcome = a.accepted ? "accepted" : "refused";
+    if (auto it = open_.find(key); it != open_.end()) {
+      rows[it->second].outcome = outcome, rows[it->second].reason = a.reason;
+      open_.erase(it);
+    } else if (auto h = heartbeats_.find(key); h != heartbeats_.end() && !a.accepted) {
+      rows.push_back({h->second.first, a.operator_id, h->second.second, outcome, a.reason});
+    } else {
+      rows.push_back({t, "rover", "answer to an unknown command " + std::to_string(a.sequence),
+                      outcome, a.reason});
+    }
+  }
+  void heartbeat(double t, const link::Heartbeat& h) {
+    if (h.holding == holding_) return;
+    holding_ = h.holding;
+    rows.push_back({t, "rover", h.holding ? "holds" : "holds no longer", "", h.hold_reason});
+  }
+  std::vector<LogRow> rows;
+
+ private:
+  using Key = std::pair<std::string, std::uint64_t>;
+  std::map<Key, std::size_t> open_;
+  std::map<Key, std::pair<double, std::string>> heartbeats_;
+  bool holding_ = false;
+};
+
+}  // namespace
+
+MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const Progress& progress) {
+  const missionlog::MissionLogReader reader(log);
+  MissionTimeline t;
+  const auto summary = reader.summary();
+  t.mission_ = summary.mission;
+  t.first_s_ = summary.first_s, t.last_s_ = summary.last_s;
+
+  RowBuilder rows;
+  std::vector<Timed> scans;
+  for (const auto& m : reader.messages(-INFINITY, INFINITY)) {
+    try {
+      if (m.direction == missionlog::Direction::kToRover) {
+        rows.command(m.time_s, link::decodeCommand(m.payload));
+        continue;
+      }
+      auto telemetry = link::decodeTelemetry(m.payload);
+      const auto& body = telemetry.body;
+      if (std::holds_alternative<sensor::RangeImage>(body)) {
+        scans.push_back({m.time_s, std::move(telemetry)});
+      } else if (std::holds_alternative<link::LegState>(body) ||
+                 std::holds_alternative<link::BodyState>(body)) {
+        t.states_.push_back({m.time_s, std::move(telemetry)});
+      } else if (const auto* a = std::get_if<link::CommandAck>(&body)) {
+        rows.ack(m.time_s, *a);
+        t.marks_.push_back(m.time_s);
+      } else if (const auto* h = std::get_if<link::Heartbeat>(&body)) {
+        rows.heartbeat(m.time_s, *h);
+      }
+    } catch (const link::DecodeError&) {
+      ++t.unreadable_;
+    }
+  }
+  for (const auto& d : reader.decisions()) {
+    rows.rows.push_back(
+        {d.time_s, d.operator_id,
+         missionlog::verdictName(d.verdict) + " proposal " + std::to_string(d.proposal),
+         missionlog::verdictName(d.verdict), d.detail});
+    t.marks_.push_back(d.time_s);
+  }
+  std::stable_sort(rows.rows.begin(), rows.rows.end(),
+                   [](const LogRow& a, const LogRow& b) { return a.time_s < b.time_s; });
+  t.rows_ = std::move(rows.rows);
+
+  // krotkov1989 §3 then cmu-1990 'LTM Merger', exactly as WalkExecutive.
+  terrain::ElevationMap map(mapGrid(reader.products(), log));
+  const int total = int(scans.size());
+  for (int i = 0; i < total; ++i) {
+    if (progress && !progress(i, total)) throw Cancelled();
+    const auto& image = std::get<sensor::RangeImage>(scans[std::size_t(i)].message.body);
+    terrain::mergeInto(map, terrain::buildLocusMap(image, map.grid()));
+    t.maps_.push_back({scans[std::size_t(i)].time_s, map});
+    t.marks_.push_back(scans[std::size_t(i)].time_s);
+  }
+  if (progress) progress(total, total);
+  std::sort(t.marks_.begin(), t.marks_.end());
+  return t;
+}
+
+const MapAfterScan* MissionTimeline::mapAt(double time_s) const {
+  const auto it = std::upper_bound(maps_.begin(), maps_.end(), time_s,
+                                   [](double t, const MapAfterScan& m) { return t < m.time_s; });
+  return it == maps_.begin() ? nullptr : &*std::prev(it);
+}
+
+executive::RoverReport MissionTimeline::roverAt(double time_s) const {
+  executive::RoverReport report;
+  for (const auto& s : states_) {
+    if (s.time_s > time_s) break;
+    report.take(s.message);
+  }
+  return report;
+}
+
+std::size_t MissionTimeline::rowsUpTo(double time_s) const {
+  return std::size_t(std::upper_bound(rows_.begin(), rows_.end(), time_s,
+                                      [](double t, const LogRow& r) { return t < r.time_s; }) -
+                     rows_.begin());
+}
+
+}  // namespace ambler::replay

@@ -1,0 +1,82 @@
+#pragma once
+
+// A mission log turned into what the operator saw, at any time: the local
+// terrain map after each scan (recomputed from the logged range images as
+// the executive computed it: locus method, then merged), where the rover
+// reported its body and legs, and the commands, acknowledgements and
+// decisions as one table. Built once when a log is opened; scrubbing is
+// then a lookup.
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "executive/ReportedStance.h"
+#include "gait/RoverModel.h"
+#include "terrain/ElevationMap.h"
+
+namespace ambler::replay {
+
+// One line of the event and command table: a command and what the rover
+// answered, an operator's decision, or a change in the rover's hold.
+struct LogRow {
+  double time_s = 0.0;
+  std::string who;      // operator id, or "rover"
+  std::string what;     // "LegMove leg 2, 3 waypoints", "approved proposal 4", ...
+  std::string outcome;  // "accepted", "refused", "no answer", a verdict, ...
+  std::string reason;   // why refused, what was decided
+};
+
+// The terrain map as it stood after one scan.
+struct MapAfterScan {
+  double time_s = 0.0;  // when the range image arrived
+  terrain::ElevationMap map;
+};
+
+// done of total scans mapped; return false to stop building.
+using Progress = std::function<bool(int done, int total)>;
+
+// Building was stopped through Progress.
+struct Cancelled : std::exception {
+  const char* what() const noexcept override { return "building the timeline was cancelled"; }
+};
+
+class MissionTimeline {
+ public:
+  // Reads the log (missionlog::LogError when it cannot) and maps every range
+  // image in it on the grid the executive logged with its maps.
+  static MissionTimeline build(const std::filesystem::path& log, const Progress& progress = {});
+
+  const std::string& mission() const { return mission_; }
+  double firstS() const { return first_s_; }
+  double lastS() const { return last_s_; }
+  const std::vector<MapAfterScan>& maps() const { return maps_; }
+  // The map after the last scan at or before `time_s`; none before the first.
+  const MapAfterScan* mapAt(double time_s) const;
+  // The latest body and leg states at or before `time_s`.
+  executive::RoverReport roverAt(double time_s) const;
+  const std::vector<LogRow>& rows() const { return rows_; }
+  // How many rows are at or before `time_s`.
+  std::size_t rowsUpTo(double time_s) const;
+  // Times worth stepping to: each scan, each decision, each move's answer.
+  const std::vector<double>& marks() const { return marks_; }
+  // Messages in the log that could not be decoded (left out).
+  long unreadable() const { return unreadable_; }
+
+ private:
+  struct Timed {
+    double time_s;
+    link::Telemetry message;
+  };
+  std::string mission_;
+  double first_s_ = 0.0, last_s_ = 0.0;
+  std::vector<MapAfterScan> maps_;
+  std::vector<Timed> states_;  // leg and body states in time order
+  std::vector<LogRow> rows_;
+  std::vector<double> marks_;
+  long unreadable_ = 0;
+};
+
+}  // namespace ambler::replay
