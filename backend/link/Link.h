@@ -55,15 +55,28 @@ class LinkHealth {
   std::optional<double> last_s_;
 };
 
-// Any link, noting in a LinkHealth when the rover last spoke.
+// Any link, noting in a LinkHealth when the rover last spoke, and showing
+// an observer (a console's command table) each command as it leaves and
+// each message as it arrives.
+struct LinkObserver {
+  std::function<void(const Command&)> sent;
+  std::function<void(const Telemetry&)> received;
+};
+
 class WatchedLink : public Link {
  public:
-  WatchedLink(Link& inner, LinkHealth& health, std::function<double()> clock)
-      : inner_(inner), health_(health), clock_(std::move(clock)) {}
-  void send(const Command& command) override { inner_.send(command); }
+  WatchedLink(Link& inner, LinkHealth& health, std::function<double()> clock,
+              LinkObserver observer = {})
+      : inner_(inner), health_(health), clock_(std::move(clock)), observer_(std::move(observer)) {}
+  void send(const Command& command) override {
+    inner_.send(command);
+    if (observer_.sent) observer_.sent(command);
+  }
   std::vector<Telemetry> receive(std::chrono::milliseconds timeout) override {
     auto in = inner_.receive(timeout);
     if (!in.empty()) health_.heard(clock_());
+    if (observer_.received)
+      for (const auto& m : in) observer_.received(m);
     return in;
   }
   std::string describe() const override { return inner_.describe(); }
@@ -72,6 +85,7 @@ class WatchedLink : public Link {
   Link& inner_;
   LinkHealth& health_;
   std::function<double()> clock_;
+  LinkObserver observer_;
 };
 
 }  // namespace ambler::link

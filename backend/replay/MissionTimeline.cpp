@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 
 #include "executive/WalkExecutive.h"
 #include "io/Json.h"
@@ -40,63 +39,6 @@ GridSpec mapGrid(const std::vector<missionlog::LoggedProduct>& products,
   return GridSpec::covering(defaults.map_extent, defaults.map_resolution_m);
 }
 
-std::string describe(const link::CommandBody& body) {
-  std::ostringstream s;
-  s.precision(3);
-  s << link::typeName(body);
-  if (const auto* m = std::get_if<link::LegMove>(&body)) {
-    s << " leg " << m->leg << ", " << m->waypoints.size() << " waypoints";
-  } else if (const auto* b = std::get_if<link::BodyMove>(&body)) {
-    s << std::fixed << " (" << b->x_m << ", " << b->y_m << ") m, " << b->rotation_rad * 180.0 / M_PI
-      << " deg";
-  } else if (const auto* g = std::get_if<link::Grasp>(&body)) {
-    s << std::fixed << " at (" << g->x_m << ", " << g->y_m << ", " << g->z_m << ") m";
-  } else if (const auto* a = std::get_if<link::AcquireScan>(&body)) {
-    s << (a->sensor == link::ScanSensor::kLightStriper ? " light-striper" : " range scanner");
-  }
-  return s.str();
-}
-
-// Commands in order, each answered by the acknowledgement with its
-// operator and sequence. Heartbeats show only when refused.
-class RowBuilder {
- public:
-  void command(double t, const link::Command& c) {
-    const bool heartbeat = std::holds_alternative<link::GroundHeartbeat>(c.body);
-    if (heartbeat) {
-      heartbeats_[{c.operator_id, c.sequence}] = {t, describe(c.body)};
-      return;
-    }
-    open_[{c.operator_id, c.sequence}] = rows.size();
-    rows.push_back({t, c.operator_id, describe(c.body), "no answer", ""});
-  }
-  void ack(double t, const link::CommandAck& a) {
-    const std::pair key{a.operator_id, a.sequence};
-    const std::string outcome = a.accepted ? "accepted" : "refused";
-    if (auto it = open_.find(key); it != open_.end()) {
-      rows[it->second].outcome = outcome, rows[it->second].reason = a.reason;
-      open_.erase(it);
-    } else if (auto h = heartbeats_.find(key); h != heartbeats_.end() && !a.accepted) {
-      rows.push_back({h->second.first, a.operator_id, h->second.second, outcome, a.reason});
-    } else {
-      rows.push_back({t, "rover", "answer to an unknown command " + std::to_string(a.sequence),
-                      outcome, a.reason});
-    }
-  }
-  void heartbeat(double t, const link::Heartbeat& h) {
-    if (h.holding == holding_) return;
-    holding_ = h.holding;
-    rows.push_back({t, "rover", h.holding ? "holds" : "holds no longer", "", h.hold_reason});
-  }
-  std::vector<LogRow> rows;
-
- private:
-  using Key = std::pair<std::string, std::uint64_t>;
-  std::map<Key, std::size_t> open_;
-  std::map<Key, std::pair<double, std::string>> heartbeats_;
-  bool holding_ = false;
-};
-
 }  // namespace
 
 MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const Progress& progress) {
@@ -106,12 +48,12 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
   t.mission_ = summary.mission;
   t.first_s_ = summary.first_s, t.last_s_ = summary.last_s;
 
-  RowBuilder rows;
+  CommandTable table;
   std::vector<Timed> scans;
   for (const auto& m : reader.messages(-INFINITY, INFINITY)) {
     try {
       if (m.direction == missionlog::Direction::kToRover) {
-        rows.command(m.time_s, link::decodeCommand(m.payload));
+        table.sent(m.time_s, link::decodeCommand(m.payload));
         continue;
       }
       auto telemetry = link::decodeTelemetry(m.payload);
@@ -121,26 +63,21 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
       } else if (std::holds_alternative<link::LegState>(body) ||
                  std::holds_alternative<link::BodyState>(body)) {
         t.states_.push_back({m.time_s, std::move(telemetry)});
-      } else if (const auto* a = std::get_if<link::CommandAck>(&body)) {
-        rows.ack(m.time_s, *a);
-        t.marks_.push_back(m.time_s);
-      } else if (const auto* h = std::get_if<link::Heartbeat>(&body)) {
-        rows.heartbeat(m.time_s, *h);
+      } else {
+        if (std::holds_alternative<link::CommandAck>(body)) t.marks_.push_back(m.time_s);
+        table.received(m.time_s, telemetry);
       }
     } catch (const link::DecodeError&) {
       ++t.unreadable_;
     }
   }
   for (const auto& d : reader.decisions()) {
-    rows.rows.push_back(
-        {d.time_s, d.operator_id,
-         missionlog::verdictName(d.verdict) + " proposal " + std::to_string(d.proposal),
-         missionlog::verdictName(d.verdict), d.detail});
+    table.decided(d);
     t.marks_.push_back(d.time_s);
   }
-  std::stable_sort(rows.rows.begin(), rows.rows.end(),
+  t.rows_ = table.takeRows();
+  std::stable_sort(t.rows_.begin(), t.rows_.end(),
                    [](const LogRow& a, const LogRow& b) { return a.time_s < b.time_s; });
-  t.rows_ = std::move(rows.rows);
 
   // krotkov1989 §3 then cmu-1990 'LTM Merger', exactly as WalkExecutive.
   terrain::ElevationMap map(mapGrid(reader.products(), log));

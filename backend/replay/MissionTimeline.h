@@ -15,19 +15,10 @@
 
 #include "executive/ReportedStance.h"
 #include "gait/RoverModel.h"
+#include "replay/CommandTable.h"
 #include "terrain/ElevationMap.h"
 
 namespace ambler::replay {
-
-// One line of the event and command table: a command and what the rover
-// answered, an operator's decision, or a change in the rover's hold.
-struct LogRow {
-  double time_s = 0.0;
-  std::string who;      // operator id, or "rover"
-  std::string what;     // "LegMove leg 2, 3 waypoints", "approved proposal 4", ...
-  std::string outcome;  // "accepted", "refused", "no answer", a verdict, ...
-  std::string reason;   // why refused, what was decided
-};
 
 // The terrain map as it stood after one scan.
 struct MapAfterScan {

@@ -45,5 +45,18 @@ TEST(WatchedLink, NotesWhenTheRoverLastSpoke) {
   EXPECT_EQ(link.describe(), "one message");
 }
 
+TEST(WatchedLink, ShowsItsObserverWhatPassesBothWays) {
+  OneMessageLink inner;
+  LinkHealth health(3.0);
+  std::vector<std::string> seen;
+  WatchedLink link(inner, health, [] { return 0.0; },
+                   {[&](const Command& c) { seen.push_back("sent " + typeName(c.body)); },
+                    [&](const Telemetry& t) { seen.push_back("received " + typeName(t.body)); }});
+  link.send(Command{1, "alice", 1, 0.0, Hold{}, std::nullopt});
+  link.receive(std::chrono::milliseconds(0));
+  link.receive(std::chrono::milliseconds(0));
+  EXPECT_EQ(seen, (std::vector<std::string>{"sent Hold", "received Heartbeat"}));
+}
+
 }  // namespace
 }  // namespace ambler::link

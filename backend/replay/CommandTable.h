@@ -1,0 +1,47 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "link/Messages.h"
+#include "missionlog/MissionLog.h"
+
+namespace ambler::replay {
+
+// One line of the event and command table: a command and what the rover
+// answered, an operator's decision, or a change in the rover's hold.
+struct LogRow {
+  double time_s = 0.0;
+  std::string who;      // operator id, or "rover"
+  std::string what;     // "LegMove leg 2, 3 waypoints", "approved proposal 4", ...
+  std::string outcome;  // "accepted", "refused", "no answer", a verdict, ...
+  std::string reason;   // why refused, what was decided
+};
+
+// The table as messages pass (live) or as a log is read (replay): each
+// command is answered in place by the acknowledgement with its operator
+// and sequence. Heartbeats the rover accepted are left out as noise.
+class CommandTable {
+ public:
+  void sent(double time_s, const link::Command& command);
+  void received(double time_s, const link::Telemetry& message);
+  void decided(const missionlog::Decision& decision);
+
+  const std::vector<LogRow>& rows() const { return rows_; }
+  std::vector<LogRow> takeRows() { return std::move(rows_); }
+
+ private:
+  void answer(double time_s, const link::CommandAck& ack);
+
+  using Key = std::pair<std::string, std::uint64_t>;
+  std::vector<LogRow> rows_;
+  std::map<Key, std::size_t> open_;  // commands awaiting their answer
+  std::map<Key, std::pair<double, std::string>> heartbeats_;
+  bool holding_ = false;
+};
+
+// "LegMove leg 2, 3 waypoints", "BodyMove (0.000, 0.450) m, 0.000 deg", ...
+std::string describeCommand(const link::CommandBody& body);
+
+}  // namespace ambler::replay
