@@ -11,13 +11,13 @@ find_package(SQLite3 REQUIRED)
 find_package(CycloneDDS 0.10 REQUIRED)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
 
-find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets OpenGL OpenGLWidgets Concurrent Test)
+find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets OpenGL OpenGLWidgets Concurrent Charts Test)
 
 # VTK's InteractionStyle chain references MPI::MPI_C.
 find_package(MPI REQUIRED COMPONENTS C)
 # Only modules that do not depend on Qt: Debian's GUISupportQt is built on Qt5.
 find_package(VTK 9.1 REQUIRED COMPONENTS
-  CommonCore CommonDataModel CommonColor FiltersCore FiltersGeometry
+  CommonCore CommonDataModel CommonColor FiltersCore FiltersGeometry FiltersSources
   RenderingCore RenderingOpenGL2 RenderingAnnotation InteractionStyle)
 # find_package(PCL) overwrites VTK_LIBRARIES, so keep our own list.
 set(AMBLER_VTK_LIBRARIES ${VTK_LIBRARIES})

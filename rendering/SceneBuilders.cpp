@@ -8,6 +8,7 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkProperty.h>
+#include <vtkSphereSource.h>
 #include <vtkTextProperty.h>
 
 #include <cmath>
@@ -114,6 +115,43 @@ vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std
   bar->GetLabelTextProperty()->ItalicOff();
   bar->UnconstrainedFontSizeOn();
   return bar;
+}
+
+vtkSmartPointer<vtkActor> makePolylines(const std::vector<std::vector<Eigen::Vector3d>>& strips,
+                                        const Eigen::Vector3d& rgb, float width) {
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> lines;
+  for (const auto& strip : strips) {
+    if (strip.size() < 2) continue;
+    lines->InsertNextCell(vtkIdType(strip.size()));
+    for (const auto& p : strip) lines->InsertCellPoint(points->InsertNextPoint(p.data()));
+  }
+  vtkNew<vtkPolyData> data;
+  data->SetPoints(points);
+  data->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(data);
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb.x(), rgb.y(), rgb.z());
+  actor->GetProperty()->SetLineWidth(width);
+  actor->GetProperty()->LightingOff();
+  return actor;
+}
+
+vtkSmartPointer<vtkActor> makeSphere(const Eigen::Vector3d& centre, double radius,
+                                     const Eigen::Vector3d& rgb) {
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(centre.data());
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(16);
+  sphere->SetPhiResolution(12);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(sphere->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb.x(), rgb.y(), rgb.z());
+  return actor;
 }
 
 }  // namespace ambler::rendering

@@ -26,6 +26,15 @@ vtkSmartPointer<vtkActor> makeHeightSurface(const GridSpec& grid, const io::Floa
 vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& points,
                                          const Eigen::Vector3d& rgb, float point_size = 2.0f);
 
+// Connected line strips of one colour, `width` pixels wide (the rover's
+// legs, a support polygon, a path).
+vtkSmartPointer<vtkActor> makePolylines(const std::vector<std::vector<Eigen::Vector3d>>& strips,
+                                        const Eigen::Vector3d& rgb, float width = 3.0f);
+
+// A shaded sphere (a foothold, a foot).
+vtkSmartPointer<vtkActor> makeSphere(const Eigen::Vector3d& centre, double radius,
+                                     const Eigen::Vector3d& rgb);
+
 // A vertical colour bar for `table` whose title carries the unit, e.g.
 // "Elevation [m]".
 vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title);

@@ -121,6 +121,7 @@ void VtkView::paintGL() {
   f->glClearColor(0, 0, 0, 1);
   f->glClear(GL_COLOR_BUFFER_BIT);
   f->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  emit frameRendered();
 }
 
 void VtkView::onRenderWindowEvent(vtkObject*, unsigned long event_id, void* call_data) {

@@ -32,6 +32,10 @@ class VtkView : public QOpenGLWidget {
   // constructing QApplication.
   static QSurfaceFormat defaultFormat();
 
+ signals:
+  // A frame reached the widget's framebuffer.
+  void frameRendered();
+
  protected:
   void initializeGL() override;
   void resizeGL(int w, int h) override;

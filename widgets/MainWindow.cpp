@@ -1,9 +1,14 @@
 #include "widgets/MainWindow.h"
 
 #include <QAction>
+#include <QChartView>
 #include <QCloseEvent>
+#include <QDir>
 #include <QDockWidget>
+#include <QFile>
+#include <QFileDialog>
 #include <QLabel>
+#include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QSettings>
@@ -13,10 +18,14 @@
 #include <QTabWidget>
 #include <QToolBar>
 
+#include "terrain/ElevationMapFile.h"
+#include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
 #include "widgets/StepApprovalPanel.h"
+#include "widgets/TelemetryPanel.h"
 #include "widgets/TerrainView.h"
+#include "widgets/TimelineBar.h"
 
 namespace ambler::widgets {
 
@@ -32,7 +41,10 @@ MainWindow::MainWindow(QWidget* parent)
       views_(new QTabWidget),
       status_(new QLabel),
       link_status_(new QLabel),
-      progress_(new QProgressBar) {
+      progress_(new QProgressBar),
+      telemetry_(new TelemetryPanel),
+      command_log_(new CommandLogView),
+      timeline_(new TimelineBar) {
   setWindowTitle(tr("Ambler Ground Station"));
   auto* splitter = new QSplitter(Qt::Horizontal);
   views_->addTab(range_view_, tr("Range image"));
@@ -58,22 +70,31 @@ MainWindow::MainWindow(QWidget* parent)
   toolbar->addAction(walk_action_);
   connect(walk_action_, &QAction::triggered, this, &MainWindow::walkRequested);
 
-  auto* dock = new QDockWidget(tr("Step approval"), this);
-  dock->setObjectName("step-approval-dock");  // for saveState/restoreState
-  dock->setWidget(approval_);
-  addDockWidget(Qt::RightDockWidgetArea, dock);
+  addDock(tr("Step approval"), "step-approval-dock", approval_, Qt::RightDockWidgetArea);
+  auto* telemetry =
+      addDock(tr("Telemetry"), "telemetry-dock", telemetry_, Qt::BottomDockWidgetArea);
+  auto* events = addDock(tr("Events and commands"), "command-log-dock", command_log_,
+                         Qt::BottomDockWidgetArea);
+  tabifyDockWidget(telemetry, events);
+  telemetry->raise();
+  // The timeline spans the window's width, under everything else.
+  timeline_bar_ = new QToolBar(tr("Replay timeline"), this);
+  timeline_bar_->setObjectName("timeline-toolbar");
+  timeline_bar_->setMovable(false);
+  timeline_bar_->addWidget(timeline_);
+  addToolBar(Qt::BottomToolBarArea, timeline_bar_);
+  timeline_bar_->hide();
+  addMenus();
 
-  progress_->setRange(0, 0);  // busy indicator: scans have no fraction to show
+  progress_->setRange(0, 0);  // busy indicator unless the work has a fraction to show
   progress_->setMaximumWidth(140);
   progress_->hide();
   statusBar()->addWidget(status_, 1);
   statusBar()->addPermanentWidget(link_status_);
   statusBar()->addPermanentWidget(progress_);
+  // A readout stands in for the status while the pointer is over a view.
   auto readout = [this](const QString& text) {
-    if (!text.isEmpty())
-      statusBar()->showMessage(text);
-    else
-      statusBar()->clearMessage();
+    status_->setText(text.isEmpty() ? status_text_ : text);
   };
   connect(range_view_, &RangeImageView::readoutChanged, this, readout);
   connect(map_view_, &MapView::readoutChanged, this, readout);
@@ -81,7 +102,93 @@ MainWindow::MainWindow(QWidget* parent)
   QSettings settings;
   restoreGeometry(settings.value("main/geometry").toByteArray());
   restoreState(settings.value("main/state").toByteArray());
-  if (!settings.contains("main/geometry")) resize(1280, 760);
+  if (!settings.contains("main/geometry")) resize(1400, 900);
+  timeline_bar_->hide();  // until a log is opened, whatever was saved
+}
+
+QDockWidget* MainWindow::addDock(const QString& title, const QString& name, QWidget* widget,
+                                 Qt::DockWidgetArea area) {
+  auto* dock = new QDockWidget(title, this);
+  dock->setObjectName(name);  // for saveState/restoreState
+  dock->setWidget(widget);
+  addDockWidget(area, dock);
+  return dock;
+}
+
+void MainWindow::addMenus() {
+  auto* file = menuBar()->addMenu(tr("&File"));
+  auto* connect_action = file->addAction(tr("&Connect…"), this, &MainWindow::connectRequested);
+  connect_action->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_K));
+  connect_action->setToolTip(tr("Built-in simulator, ambler-sim or a rover over DDS, or a log"));
+  auto* open = file->addAction(tr("&Open mission log…"), this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Open mission log"), {},
+                                                      tr("Mission logs (*.sqlite);;All files (*)"));
+    if (!path.isEmpty()) emit openLogRequested(path);
+  });
+  open->setShortcut(QKeySequence::Open);
+  file->addSeparator();
+  auto report = [this](const QString& why, const QString& done) {
+    if (why.isEmpty())
+      setStatus(done);
+    else
+      showError(why);
+  };
+  file->addAction(tr("Export map layers (TIFF)…"), this, [this, report] {
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Folder for the map layers"));
+    if (!dir.isEmpty()) report(exportMapLayers(dir), tr("Map layers written to %1").arg(dir));
+  });
+  file->addAction(tr("Export plots (PNG)…"), this, [this, report] {
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Folder for the plots"));
+    if (!dir.isEmpty()) report(exportPlots(dir), tr("Plots written to %1").arg(dir));
+  });
+  file->addAction(tr("Export events and commands (CSV)…"), this, [this, report] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Events and commands"),
+                                                      "commands.csv", tr("CSV (*.csv)"));
+    if (!path.isEmpty()) report(exportTable(path), tr("Table written to %1").arg(path));
+  });
+  file->addSeparator();
+  file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+  auto* view = menuBar()->addMenu(tr("&View"));
+  for (auto* dock : findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
+}
+
+void MainWindow::setReplay(const QString& what) {
+  setWindowTitle(what.isEmpty() ? tr("Ambler Ground Station")
+                                : tr("Ambler Ground Station — replay of %1").arg(what));
+  timeline_bar_->setVisible(!what.isEmpty());
+  approval_->setEnabled(what.isEmpty());
+  walk_action_->setEnabled(what.isEmpty());
+  scan_action_->setEnabled(what.isEmpty());
+  if (!what.isEmpty()) showMapView();
+}
+
+QString MainWindow::exportMapLayers(const QString& dir) const {
+  const auto& map = map_view_->map();
+  if (!map) return tr("There is no terrain map to export yet.");
+  try {
+    terrain::writeElevationMap(*map, dir.toStdString());
+  } catch (const std::exception& e) {
+    return tr("Could not write the map layers: %1").arg(e.what());
+  }
+  return {};
+}
+
+QString MainWindow::exportPlots(const QString& dir) const {
+  const std::pair<QChartView*, QString> plots[] = {{telemetry_->timingView(), "module-timing.png"},
+                                                   {telemetry_->feetView(), "foot-heights.png"}};
+  for (const auto& [view, name] : plots) {
+    const QString path = QDir(dir).filePath(name);
+    if (!view->grab().save(path)) return tr("Could not write %1").arg(path);
+  }
+  return {};
+}
+
+QString MainWindow::exportTable(const QString& path) const {
+  QFile file(path);
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate | QIODevice::Text) ||
+      file.write(command_log_->toCsv().toUtf8()) < 0)
+    return tr("Could not write %1: %2").arg(path, file.errorString());
+  return {};
 }
 
 quint64 MainWindow::seed() const { return quint64(seed_box_->value()); }
@@ -92,14 +199,15 @@ void MainWindow::showScan(const ScanDisplay& display) {
   range_view_->setImage(display.scan);
   terrain_view_->setScene(display);
   const auto t = display.scan.sensor_to_world.translation();
-  status_->setText(tr("Scan %1 x %2, %3 returns, sensor at (%4, %5, %6) m, simulated in %7 ms")
-                       .arg(display.scan.rows())
-                       .arg(display.scan.cols())
-                       .arg(display.scan.returnCount())
-                       .arg(t.x(), 0, 'f', 2)
-                       .arg(t.y(), 0, 'f', 2)
-                       .arg(t.z(), 0, 'f', 2)
-                       .arg(display.scan_ms, 0, 'f', 0));
+  setStatus(tr("Scan %1 x %2, %3 returns, sensor at (%4, %5, %6) m, simulated in %7 ms")
+                .arg(display.scan.rows())
+                .arg(display.scan.cols())
+                .arg(display.scan.returnCount())
+                .arg(t.x(), 0, 'f', 2)
+                .arg(t.y(), 0, 'f', 2)
+                .arg(t.z(), 0, 'f', 2)
+                .arg(display.scan_ms, 0, 'f', 0));
+  emit scanShown();
 }
 
 void MainWindow::showMapView() { views_->setCurrentWidget(map_view_); }
@@ -110,14 +218,19 @@ void MainWindow::setLinkStatus(const QString& text, bool stale) {
 }
 
 void MainWindow::showError(const QString& message) {
-  status_->setText(tr("Error: %1").arg(message));
+  setStatus(tr("Error: %1").arg(message));
   QMessageBox::warning(this, tr("Ambler Ground Station"), message);
 }
 
 void MainWindow::setBusy(const QString& what) {
   progress_->setVisible(!what.isEmpty());
   scan_action_->setEnabled(what.isEmpty());
-  if (!what.isEmpty()) status_->setText(what);
+  if (!what.isEmpty()) setStatus(what);
+}
+
+void MainWindow::setStatus(const QString& text) {
+  status_text_ = text;
+  status_->setText(text);
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {

@@ -11,14 +11,21 @@ class QAction;
 
 namespace ambler::widgets {
 
+class CommandLogView;
 class RangeImageView;
 class StepApprovalPanel;
 class MapView;
+class TelemetryPanel;
 class TerrainView;
+class TimelineBar;
 
-// The operator's main window: the latest range image beside the terrain in
-// 3-D. It asks for scans through scanRequested() and shows what it is given;
-// where scans come from (simulator, rover, log) is not its business.
+// The operator's main window: the range image and the terrain map beside
+// the 3-D view; docks for the step approval, the rover's telemetry, the
+// event and command table and (in a replay) the timeline, each restored
+// where the operator left it. It asks for work through its signals and
+// shows what it is given; where data comes from (simulator, rover, log) is
+// not its business. It exports what it shows: map layers as TIFF, plots as
+// PNG, the table as CSV.
 class MainWindow : public QMainWindow {
   Q_OBJECT
 
@@ -28,6 +35,8 @@ class MainWindow : public QMainWindow {
   void showScan(const ScanDisplay& display);
   void showError(const QString& message);
   void setBusy(const QString& what);  // empty: idle
+  // The status bar's message, until the next one.
+  void setStatus(const QString& text);
   quint64 seed() const;
   void setSeed(quint64 seed);
 
@@ -37,6 +46,19 @@ class MainWindow : public QMainWindow {
   QAction* walkAction() const { return walk_action_; }
   StepApprovalPanel* approvalPanel() const { return approval_; }
   MapView* mapView() const { return map_view_; }
+  TelemetryPanel* telemetry() const { return telemetry_; }
+  CommandLogView* commandLog() const { return command_log_; }
+  TimelineBar* timeline() const { return timeline_; }
+  class QToolBar* timelineBar() const {
+    return timeline_bar_;
+  }
+  QProgressBar* progress() const { return progress_; }
+  // A replay of `what` (shown in the title, the timeline shown), or live.
+  void setReplay(const QString& what);
+  // Each returns what went wrong, empty when the files were written.
+  QString exportMapLayers(const QString& dir) const;
+  QString exportPlots(const QString& dir) const;
+  QString exportTable(const QString& file) const;
   // Brings the terrain map to the front (a walk started).
   void showMapView();
   // "simulator in this process: last data 0.4 s ago"; stale shows in red.
@@ -45,6 +67,9 @@ class MainWindow : public QMainWindow {
  signals:
   void scanRequested(quint64 seed);
   void walkRequested();
+  void scanShown();  // showScan() has put a scan in the views
+  void connectRequested();
+  void openLogRequested(const QString& path);
 
  protected:
   void closeEvent(QCloseEvent* e) override;
@@ -59,8 +84,17 @@ class MainWindow : public QMainWindow {
   MapView* map_view_;
   class QTabWidget* views_;
   QLabel* status_;
+  QString status_text_;
   QLabel* link_status_;
   QProgressBar* progress_;
+  TelemetryPanel* telemetry_;
+  CommandLogView* command_log_;
+  TimelineBar* timeline_;
+  class QToolBar* timeline_bar_;
+
+  void addMenus();
+  class QDockWidget* addDock(const QString& title, const QString& name, QWidget* widget,
+                             Qt::DockWidgetArea area);
 };
 
 }  // namespace ambler::widgets

@@ -53,6 +53,11 @@ void MapView::setProposal(const std::optional<executive::StepProposal>& proposal
   recolor();  // the view follows the rover
 }
 
+void MapView::setStance(const std::optional<gait::Stance>& stance) {
+  stance_ = stance;
+  recolor();
+}
+
 void MapView::setShown(Shown layer) {
   shown_ = layer;
   if (layer_box_->currentIndex() != int(layer)) layer_box_->setCurrentIndex(int(layer));
@@ -61,7 +66,10 @@ void MapView::setShown(Shown layer) {
 
 Box2 MapView::viewBox() const {
   Eigen::Vector2d centre(0, 0);
-  if (proposal_) centre = proposal_->from.body.xy;
+  if (proposal_)
+    centre = proposal_->from.body.xy;
+  else if (stance_)
+    centre = stance_->body.xy;
   return {centre.x() - kHalfViewM, centre.y() - kHalfViewM, centre.x() + kHalfViewM,
           centre.y() + kHalfViewM};
 }
@@ -190,17 +198,31 @@ void MapView::drawColorBar(QPainter& p) const {
   p.drawText(QPointF(none.right() + 4, none.bottom() + 16), tr("shadow"));
 }
 
-// The supporting feet (white), the conservative support polygon of the
-// stance the step starts from (cyan), the body centre, and the foothold
-// (a red ring the size of the foot disk's centre mark).
+// The proposed step's starting stance with its foothold (a red ring;
+// orange when an interlock failed), or the reported stance.
 void MapView::drawProposal(QPainter& p) const {
-  if (!proposal_) return;
+  if (!proposal_) {
+    if (stance_) drawStance(p, *stance_);
+    return;
+  }
+  drawStance(p, proposal_->from);
+  if (proposal_->plan.leg < 0) return;
   p.save();
   p.setRenderHint(QPainter::Antialiasing);
-  const auto& from = proposal_->from;
+  const QPointF foot = widgetPointOf(proposal_->plan.foothold.head<2>());
+  p.setPen(QPen(proposal_->interlocks.passed() ? QColor(255, 60, 60) : QColor(255, 160, 0), 3));
+  p.drawEllipse(foot, 7, 7);
+  p.restore();
+}
+
+// Supporting feet white, lifted feet hollow, the conservative support
+// polygon of the supporting feet (cyan), the body centre as a cross.
+void MapView::drawStance(QPainter& p, const gait::Stance& stance) const {
+  p.save();
+  p.setRenderHint(QPainter::Antialiasing);
   std::vector<Eigen::Vector2d> supporting;
-  for (std::size_t i = 0; i < from.feet.size(); ++i)
-    if (from.supporting[i]) supporting.push_back(from.feet[i].head<2>());
+  for (std::size_t i = 0; i < stance.feet.size(); ++i)
+    if (stance.supporting[i]) supporting.push_back(stance.feet[i].head<2>());
   const auto csp = gait::conservativeSupportPolygon(supporting);
   if (!csp.empty()) {
     QPolygonF polygon;
@@ -209,19 +231,16 @@ void MapView::drawProposal(QPainter& p) const {
     p.setBrush(QColor(0, 230, 255, 40));
     p.drawPolygon(polygon);
   }
-  p.setBrush(Qt::white);
   p.setPen(QPen(Qt::black, 1));
-  for (const auto& f : supporting) p.drawEllipse(widgetPointOf(f), 4, 4);
+  for (std::size_t i = 0; i < stance.feet.size(); ++i) {
+    p.setBrush(stance.supporting[i] ? QBrush(Qt::white) : QBrush(Qt::NoBrush));
+    p.drawEllipse(widgetPointOf(stance.feet[i].head<2>()), 4, 4);
+  }
   p.setBrush(Qt::NoBrush);
   p.setPen(QPen(Qt::white, 2));
-  const QPointF body = widgetPointOf(from.body.xy);
+  const QPointF body = widgetPointOf(stance.body.xy);
   p.drawLine(body - QPointF(6, 0), body + QPointF(6, 0));
   p.drawLine(body - QPointF(0, 6), body + QPointF(0, 6));
-  if (proposal_->plan.leg >= 0) {
-    const QPointF foot = widgetPointOf(proposal_->plan.foothold.head<2>());
-    p.setPen(QPen(proposal_->interlocks.passed() ? QColor(255, 60, 60) : QColor(255, 160, 0), 3));
-    p.drawEllipse(foot, 7, 7);
-  }
   p.restore();
 }
 

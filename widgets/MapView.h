@@ -13,8 +13,9 @@ namespace ambler::widgets {
 
 // The local terrain map seen from above (issue 7): one layer at a time
 // (elevation, sigma, known / unknown / shadow) with its colour bar and
-// units, around the rover; on top, the feet of the step waiting for a
-// decision, its conservative support polygon and the proposed foothold.
+// units, around the rover; on top, the rover's feet and conservative
+// support polygon (of the step waiting for a decision, else as reported)
+// and the proposed foothold.
 // Hovering reads out the cell; a click asks to move the foothold there.
 class MapView : public QWidget {
   Q_OBJECT
@@ -26,8 +27,12 @@ class MapView : public QWidget {
 
   void setMap(const terrain::ElevationMap& map);
   void setProposal(const std::optional<executive::StepProposal>& proposal);
+  // The rover as it reports itself, drawn (and followed) when no step is
+  // proposed: a walk between steps, or a replay.
+  void setStance(const std::optional<gait::Stance>& stance);
   void setShown(Shown layer);
   Shown shown() const { return shown_; }
+  const std::optional<terrain::ElevationMap>& map() const { return map_; }
   QSize sizeHint() const override { return {520, 520}; }
 
   // Between the world (x east, y north, metres) and this widget.
@@ -50,9 +55,11 @@ class MapView : public QWidget {
   Box2 viewBox() const;
   void drawColorBar(class QPainter& p) const;
   void drawProposal(class QPainter& p) const;
+  void drawStance(class QPainter& p, const gait::Stance& stance) const;
 
   std::optional<terrain::ElevationMap> map_;
   std::optional<executive::StepProposal> proposal_;
+  std::optional<gait::Stance> stance_;
   Shown shown_ = Shown::kElevation;
   QImage colored_;  // the view box, one pixel per cell
   double lo_ = 0.0, hi_ = 1.0;

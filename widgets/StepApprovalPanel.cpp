@@ -51,6 +51,7 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
   interlocks_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   interlocks_->verticalHeader()->hide();
   interlocks_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  interlocks_->setMinimumHeight(230);  // five checks with two lines of figures each
   approve_->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Return));
   reject_->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Backspace));
   approve_->setToolTip(tr("Send the step's moves to the rover (Ctrl+Return)"));

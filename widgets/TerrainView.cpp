@@ -5,6 +5,7 @@
 #include <QCheckBox>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <cmath>
 
 #include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
@@ -27,20 +28,86 @@ void TerrainView::setScene(const ScanDisplay& display) {
   rebuild();
 }
 
+void TerrainView::setMap(const terrain::ElevationMap& map) {
+  if (map.knownCount() == 0) return;
+  // The map's window around the rover keeps the surface light enough for
+  // software OpenGL (≤ 200 x 200 cells at 0.1 m).
+  const Eigen::Vector2d centre = stance_ ? stance_->body.xy : Eigen::Vector2d::Zero();
+  const GridSpec& g = map.grid();
+  const int c0 =
+      std::clamp(int(std::floor((centre.x() - 10 - g.origin_x) / g.resolution)), 0, g.cols);
+  const int c1 =
+      std::clamp(int(std::ceil((centre.x() + 10 - g.origin_x) / g.resolution)), 0, g.cols);
+  const int r0 =
+      std::clamp(int(std::floor((centre.y() - 10 - g.origin_y) / g.resolution)), 0, g.rows);
+  const int r1 =
+      std::clamp(int(std::ceil((centre.y() + 10 - g.origin_y) / g.resolution)), 0, g.rows);
+  if (c1 - c0 < 2 || r1 - r0 < 2) return;
+  GridSpec sub = g;
+  sub.origin_x = g.origin_x + c0 * g.resolution, sub.origin_y = g.origin_y + r0 * g.resolution;
+  sub.rows = r1 - r0, sub.cols = c1 - c0;
+  io::FloatImage z(sub.rows, sub.cols);
+  for (int r = 0; r < sub.rows; ++r)
+    for (int c = 0; c < sub.cols; ++c) z(r, c) = map.elevation(r0 + r, c0 + c);
+  map_ground_ = std::pair{sub, std::move(z)};
+  rebuild();
+}
+
+void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
+                           const std::optional<executive::StepProposal>& proposal) {
+  stance_ = proposal ? std::optional(proposal->from) : stance;
+  model_ = model;
+  foothold_.reset();
+  if (proposal && proposal->plan.leg >= 0) foothold_ = proposal->plan.foothold;
+  rebuild();
+}
+
+// The body as its keep-out box at the link plane, each leg as its shaft,
+// horizontal link and vertical link down to the foot; supporting feet
+// white, lifted ones orange; the foothold a red ball.
+void TerrainView::addRover(vtkRenderer* renderer) const {
+  if (!stance_) return;
+  const auto& body = stance_->body;
+  const auto& h = model_.body_keepout_half;
+  std::vector<Eigen::Vector3d> outline;
+  for (const auto& corner : {Eigen::Vector2d(-h.x(), -h.y()), Eigen::Vector2d(h.x(), -h.y()),
+                             Eigen::Vector2d(h.x(), h.y()), Eigen::Vector2d(-h.x(), h.y()),
+                             Eigen::Vector2d(-h.x(), -h.y())})
+    outline.push_back(body.toWorld(Eigen::Vector3d(corner.x(), corner.y(), 0.0)));
+  std::vector<std::vector<Eigen::Vector3d>> legs;
+  for (int leg = 0; leg < gait::kLegCount; ++leg) {
+    const Eigen::Vector3d foot = stance_->feet[std::size_t(leg)];
+    const Eigen::Vector3d foot_b = body.toBody(foot);
+    const Eigen::Vector2d shaft = model_.shaftOf(leg);
+    legs.push_back({body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.6)),
+                    body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.0)),
+                    body.toWorld(Eigen::Vector3d(foot_b.x(), foot_b.y(), 0.0)), foot});
+    const bool supporting = stance_->supporting[std::size_t(leg)];
+    renderer->AddActor(rendering::makeSphere(
+        foot, 0.15,
+        supporting ? Eigen::Vector3d(0.95, 0.95, 0.95) : Eigen::Vector3d(1.0, 0.6, 0.1)));
+  }
+  renderer->AddActor(rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
+  renderer->AddActor(rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
+  if (foothold_) renderer->AddActor(rendering::makeSphere(*foothold_, 0.2, {1.0, 0.2, 0.2}));
+}
+
 void TerrainView::rebuild() {
-  if (!display_) return;
+  if (!display_ && !map_ground_) return;
   auto* renderer = view_->renderer();
   renderer->RemoveAllViewProps();
 
-  const auto& z = display_->ground.pixels;
+  const auto& [grid, ground] =
+      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
   float lo = INFINITY, hi = -INFINITY;
-  for (float v : z)
+  for (float v : ground.pixels)
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   auto table = rendering::makeViridisTable(lo, hi);
-  renderer->AddActor(rendering::makeHeightSurface(display_->ground_grid, display_->ground, table));
-  renderer->AddActor2D(rendering::makeColorBar(table, "Elevation [m]"));
+  renderer->AddActor(rendering::makeHeightSurface(grid, ground, table));
+  renderer->AddActor2D(
+      rendering::makeColorBar(table, map_ground_ ? "Map elevation [m]" : "Elevation [m]"));
 
-  if (show_points_->isChecked()) {
+  if (display_ && show_points_->isChecked()) {
     const auto& scan = display_->scan;
     std::vector<Eigen::Vector3f> points;
     points.reserve(scan.range.size());
@@ -49,23 +116,33 @@ void TerrainView::rebuild() {
         if (scan.hasReturn(r, c)) points.push_back(scan.pointInWorld(r, c).cast<float>());
     renderer->AddActor(rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f));
   }
+  addRover(renderer);
 
   if (!camera_placed_) {
-    // Behind and above the sensor, looking along its boresight.
-    const auto pose = display_->scan.sensor_to_world;
-    const Eigen::Vector3d sensor = pose.translation();
-    const Eigen::Vector3d ahead = pose.linear() * Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d forward = Eigen::Vector3d(ahead.x(), ahead.y(), 0).normalized();
-    const Eigen::Vector3d eye = sensor - 8.0 * forward + Eigen::Vector3d(0, 0, 9.0);
-    const Eigen::Vector3d target = sensor + 12.0 * forward - Eigen::Vector3d(0, 0, sensor.z());
-    auto* camera = renderer->GetActiveCamera();
-    camera->SetPosition(eye.x(), eye.y(), eye.z());
-    camera->SetFocalPoint(target.x(), target.y(), target.z());
-    camera->SetViewUp(0, 0, 1);
-    camera_placed_ = true;
+    if (display_) {
+      const auto pose = display_->scan.sensor_to_world;
+      placeCamera(pose.translation(), pose.linear() * Eigen::Vector3d::UnitY());
+    } else if (stance_) {
+      const auto& b = stance_->body;
+      placeCamera(b.toWorld(Eigen::Vector3d(0, 0, 0)),
+                  b.toWorld(Eigen::Vector3d(0, 1, 0)) - b.toWorld(Eigen::Vector3d(0, 0, 0)));
+    }
   }
   renderer->ResetCameraClippingRange();
   view_->render();
+}
+
+// Behind and above the sensor (or body), looking along `ahead`, far enough
+// back that the rover's feet and the terrain 30 m ahead are both in view.
+void TerrainView::placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead) {
+  const Eigen::Vector3d forward = Eigen::Vector3d(ahead.x(), ahead.y(), 0).normalized();
+  const Eigen::Vector3d eye = sensor - 18.0 * forward + Eigen::Vector3d(0, 0, 7.0);
+  const Eigen::Vector3d target = sensor + 10.0 * forward - Eigen::Vector3d(0, 0, sensor.z());
+  auto* camera = view_->renderer()->GetActiveCamera();
+  camera->SetPosition(eye.x(), eye.y(), eye.z());
+  camera->SetFocalPoint(target.x(), target.y(), target.z());
+  camera->SetViewUp(0, 0, 1);
+  camera_placed_ = true;
 }
 
 }  // namespace ambler::widgets

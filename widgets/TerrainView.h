@@ -3,9 +3,12 @@
 #include <QWidget>
 #include <optional>
 
+#include "executive/ApprovalGate.h"
+#include "terrain/ElevationMap.h"
 #include "widgets/ScanDisplay.h"
 
 class QCheckBox;
+class vtkRenderer;
 
 namespace ambler::rendering {
 class VtkView;
@@ -14,8 +17,11 @@ class VtkView;
 namespace ambler::widgets {
 
 // The 3-D view: the ground as a shaded surface coloured by elevation (with
-// a colour bar in metres) and the scan's points in the world frame. The
-// camera starts behind and above the rover and is kept across new scans.
+// a colour bar in metres): the simulated ground of the last scan, or the
+// walk's terrain map once there is one; the scan's points in the world
+// frame; the rover with its legs as it reports them, and the proposed
+// step's foothold. The camera starts behind and above the rover and is
+// kept across updates.
 class TerrainView : public QWidget {
   Q_OBJECT
 
@@ -23,15 +29,26 @@ class TerrainView : public QWidget {
   explicit TerrainView(QWidget* parent = nullptr);
 
   void setScene(const ScanDisplay& display);
+  // The terrain map around the rover (±10 m) replaces the simulated ground.
+  void setMap(const terrain::ElevationMap& map);
+  // The rover (body, legs by forward kinematics) and the proposal's foothold.
+  void setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
+                const std::optional<executive::StepProposal>& proposal);
   rendering::VtkView* view() const { return view_; }
   QSize sizeHint() const override { return {640, 480}; }
 
  private:
   void rebuild();
+  void addRover(vtkRenderer* renderer) const;
+  void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
 
   rendering::VtkView* view_;
   QCheckBox* show_points_;
   std::optional<ScanDisplay> display_;
+  std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;
+  std::optional<gait::Stance> stance_;
+  gait::RoverModel model_;
+  std::optional<Eigen::Vector3d> foothold_;
   bool camera_placed_ = false;
 };
 

@@ -55,17 +55,13 @@ class AckPrinter : public link::Link {
   std::map<std::uint64_t, std::string> sent_;
 };
 
-// Sequence numbers must grow across console restarts (the rover refuses
-// one it has seen): start from the ground clock in microseconds.
-std::uint64_t firstSequence() { return std::uint64_t(missionlog::groundClockS() * 1e6); }
-
 int drive(const DriveArgs& a) {
   if (!a.auto_approve)
     throw std::invalid_argument(
         "drive has no operator to ask: pass --auto-approve (every interlock still runs) or "
         "approve steps in ambler-gs");
   const auto config = walk::readDefaultWalkConfig();
-  link::CommandSigner signer(link::readOperatorKey(a.key), firstSequence());
+  link::CommandSigner signer(link::readOperatorKey(a.key), missionlog::firstSequenceFromClock());
   missionlog::MissionLog log(a.log, "drive rover " + std::to_string(a.rover_id));
   link::dds::DdsLink dds(a.domain, a.rover_id);
   missionlog::RecordingLink recording(dds, log);

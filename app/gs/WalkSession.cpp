@@ -18,31 +18,57 @@ link::OperatorKey sessionKey(const QString& operator_id) {
 
 }  // namespace
 
-WalkSession::WalkSession(const walk::WalkConfig& config, std::uint64_t seed,
-                         const QString& operator_id, QObject* parent)
-    : QObject(parent), context_(config.gait), operator_id_(operator_id) {
-  const auto key = sessionKey(operator_id);
+RoverConnection simulatorConnection(const walk::WalkConfig& config, std::uint64_t seed,
+                                    const QString& operator_id) {
+  RoverConnection c;
+  c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;
   options.seed = seed;
-  options.operators = {key};
-  rover_ = std::make_unique<rover::InProcessLink>(config, options);
-  link_ = std::make_unique<link::WatchedLink>(*rover_, health_, [this] { return nowS(); });
-  signer_ = std::make_unique<link::CommandSigner>(key);
-  executive_ = std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_);
+  options.operators = {c.key};
+  c.link = std::make_unique<rover::InProcessLink>(config, options);
+  c.mission = "ambler-gs walk on course " + std::to_string(seed);
+  return c;
+}
+
+WalkSession::WalkSession(const walk::WalkConfig& config, RoverConnection rover,
+                         const std::filesystem::path& log_path, QObject* parent)
+    : QObject(parent),
+      context_(config.gait),
+      log_path_(log_path),
+      log_(log_path, rover.mission),
+      gate_([this](const missionlog::Decision& d) {
+        log_.record(d);
+        table_.decided(d);
+      }),
+      operator_id_(QString::fromStdString(rover.key.operator_id)) {
+  rover_ = std::move(rover);
+  recording_ = std::make_unique<missionlog::RecordingLink>(*rover_.link, log_);
+  link_ = std::make_unique<link::WatchedLink>(
+      *recording_, health_, [this] { return nowS(); },
+      link::LinkObserver{[this](const link::Command& c) { table_.sent(nowS(), c); },
+                         [this](const link::Telemetry& t) { table_.received(nowS(), t); }});
+  signer_ = std::make_unique<link::CommandSigner>(rover_.key, rover_.first_sequence);
+  makeExecutive({});
   connect(&timer_, &QTimer::timeout, this, &WalkSession::poll);
 }
 
 WalkSession::~WalkSession() = default;
 
-double WalkSession::nowS() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+double WalkSession::nowS() const { return missionlog::groundClockS(); }
+
+void WalkSession::makeExecutive(const executive::ExecutiveOptions& options) {
+  executive_ =
+      std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_, options);
+  executive_->onProduct([this](double t, const std::string& kind, const std::string& parameters) {
+    log_.recordProduct(t, kind, parameters);
+  });
 }
 
 void WalkSession::start(int steps) {
   executive::ExecutiveOptions options;
   options.steps = steps;
-  executive_ =
-      std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_, options);
+  options.rover_id = rover_.rover_id;
+  makeExecutive(options);
   executive_->start(nowS(), true);
   timer_.start(50);
   emit changed();
@@ -51,9 +77,11 @@ void WalkSession::start(int steps) {
 void WalkSession::poll() {
   executive_->poll(nowS(), std::chrono::milliseconds(0));
   const auto pending = gate_.pending() ? std::optional<quint64>(gate_.pending()->id) : std::nullopt;
-  if (pending != last_pending_ || executive_->phase() != last_phase_) {
+  if (pending != last_pending_ || executive_->phase() != last_phase_ ||
+      table_.rows().size() != last_rows_) {
     last_pending_ = pending;
     last_phase_ = executive_->phase();
+    last_rows_ = table_.rows().size();
     emit changed();
   }
 }

@@ -4,23 +4,44 @@
 #include <QTimer>
 #include <memory>
 
+#include <filesystem>
+
 #include "executive/WalkExecutive.h"
+#include "missionlog/ReplayLinks.h"
+#include "replay/CommandTable.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::gs {
 
+// A rover to walk: the link to it, this operator's key, and what the log
+// calls the mission.
+struct RoverConnection {
+  std::unique_ptr<link::Link> link;
+  link::OperatorKey key;
+  std::uint32_t rover_id = 1;
+  std::uint64_t first_sequence = 1;  // missionlog::firstSequenceFromClock() for a real rover
+  std::string mission;
+};
+
+// The built-in simulator on course `seed`, commanded by `operator_id` with
+// a key made for this session.
+RoverConnection simulatorConnection(const walk::WalkConfig& config, std::uint64_t seed,
+                                    const QString& operator_id);
+
 // One walk as the GUI runs it: a link to a rover (the simulator in this
 // process by default), the executive and its approval gate, polled on the
-// GUI thread. The views read its state when changed() is emitted; the
-// operator's decisions come in through approve() and reject().
+// GUI thread. Everything sent and received, every decision and every map
+// goes to a mission log first (nothing is lost if the station dies). The
+// views read its state when changed() is emitted; the operator's decisions
+// come in through approve() and reject().
 class WalkSession : public QObject {
   Q_OBJECT
 
  public:
-  // The built-in simulator on course `seed`, commanded by `operator_id`
-  // with a key made for this session.
-  WalkSession(const walk::WalkConfig& config, std::uint64_t seed, const QString& operator_id,
-              QObject* parent = nullptr);
+  // Recorded in the log at `log_path` (created, or appended to;
+  // missionlog::LogError when it cannot be).
+  WalkSession(const walk::WalkConfig& config, RoverConnection rover,
+              const std::filesystem::path& log_path, QObject* parent = nullptr);
   ~WalkSession() override;
 
   void start(int steps);
@@ -33,6 +54,8 @@ class WalkSession : public QObject {
 
   const executive::WalkExecutive& executive() const { return *executive_; }
   const std::optional<executive::StepProposal>& pending() const { return gate_.pending(); }
+  const std::vector<replay::LogRow>& commandRows() const { return table_.rows(); }
+  const std::filesystem::path& logPath() const { return log_path_; }
   QString linkDescription() const;
   // Seconds since the rover's last message; none before the first.
   std::optional<double> linkAgeS() const;
@@ -42,18 +65,24 @@ class WalkSession : public QObject {
 
  private:
   void poll();
+  void makeExecutive(const executive::ExecutiveOptions& options);
   double nowS() const;
 
   gait::GaitContext context_;
-  std::unique_ptr<link::Link> rover_;
+  std::filesystem::path log_path_;
+  missionlog::MissionLog log_;
+  replay::CommandTable table_;
+  RoverConnection rover_;
+  std::unique_ptr<link::Link> recording_;  // rover_.link, to log_
   link::LinkHealth health_;
-  std::unique_ptr<link::Link> link_;  // rover_, watched for health_
+  std::unique_ptr<link::Link> link_;  // recording_, watched for health_ and table_
   std::unique_ptr<link::CommandSigner> signer_;
   executive::ApprovalGate gate_;
   std::unique_ptr<executive::WalkExecutive> executive_;
   QTimer timer_;
   QString operator_id_;
   std::optional<quint64> last_pending_;
+  std::size_t last_rows_ = 0;
   executive::Phase last_phase_ = executive::Phase::kIdle;
 };
 

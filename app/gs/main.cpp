@@ -2,21 +2,37 @@
 // simulator, so a new user sees a scan and its terrain on first launch.
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QElapsedTimer>
 #include <QMessageBox>
-#include <QStatusBar>
+#include <QStandardPaths>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <iostream>
 
-#include "app/gs/SimulatorSource.h"
-#include "app/gs/WalkSession.h"
+#include "app/gs/GroundStation.h"
 #include "core/Resources.h"
 #include "rendering/VtkView.h"
-#include "widgets/MainWindow.h"
-#include "widgets/MapView.h"
-#include "widgets/StepApprovalPanel.h"
+#include "widgets/TerrainView.h"
+
+namespace {
+
+// Saves the window 800 ms after the first call (the views have painted),
+// then quits.
+void screenshotOnce(QWidget& window, const QString& path) {
+  static bool shot = false;
+  if (std::exchange(shot, true)) return;
+  QTimer::singleShot(800, &window, [&window, path] {
+    const bool saved = window.grab().save(path);
+    std::cout << (saved ? "saved " : "could not save ") << path.toStdString() << std::endl;
+    QApplication::exit(saved ? 0 : 1);
+  });
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  QElapsedTimer since_start;
+  since_start.start();
   // VTK needs this format, and it must be the default before QApplication.
   QSurfaceFormat::setDefaultFormat(ambler::rendering::VtkView::defaultFormat());
   QApplication app(argc, argv);
@@ -26,7 +42,7 @@ int main(int argc, char** argv) {
   qRegisterMetaType<ambler::widgets::ScanDisplay>();
 
   QCommandLineParser parser;
-  parser.setApplicationDescription("Ambler ground station (built-in simulator)");
+  parser.setApplicationDescription("Ambler ground station (built-in simulator by default)");
   parser.addHelpOption();
   parser.addVersionOption();
   const QCommandLineOption seed_option("seed", "Seed of the simulated obstacle course.", "N", "1");
@@ -36,7 +52,15 @@ int main(int argc, char** argv) {
   const QCommandLineOption walk_option(
       "walk", "Start a walk of N steps at launch; --screenshot then waits for its first proposal.",
       "N");
-  parser.addOptions({seed_option, screenshot_option, walk_option});
+  const QCommandLineOption replay_option(
+      "replay", "Open the mission log FILE at launch; --screenshot then waits for it.", "FILE");
+  const QCommandLineOption log_dir_option(
+      "log-dir", "Folder for the mission logs of live walks.", "DIR",
+      QStandardPaths::writableLocation(QStandardPaths::AppDataLocation) + "/missions");
+  const QCommandLineOption startup_option(
+      "startup-time", "Print the time from launch to the first rendered 3-D frame as JSON, quit.");
+  parser.addOptions(
+      {seed_option, screenshot_option, walk_option, replay_option, log_dir_option, startup_option});
   parser.process(app);
   bool seed_ok = false;
   const quint64 seed = parser.value(seed_option).toULongLong(&seed_ok);
@@ -44,106 +68,56 @@ int main(int argc, char** argv) {
     std::cerr << "ambler-gs: --seed must be an integer from 1 to 999999" << std::endl;
     return 2;
   }
-
-  ambler::sim::ScannerModel model;
-  ambler::walk::WalkConfig walk_config;
-  try {
-    model = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
-    walk_config = ambler::walk::readDefaultWalkConfig();
-  } catch (const std::exception& e) {
-    QMessageBox::critical(nullptr, "Ambler Ground Station", e.what());
-    return 1;
-  }
-
-  ambler::widgets::MainWindow window;
-  ambler::gs::SimulatorSource simulator(model);
-  QObject::connect(&window, &ambler::widgets::MainWindow::scanRequested, &simulator,
-                   [&](quint64 s) {
-                     window.setBusy(QObject::tr("Scanning the simulated course (seed %1)…").arg(s));
-                     simulator.requestScan(s);
-                   });
-  QObject::connect(&simulator, &ambler::gs::SimulatorSource::scanReady, &window,
-                   [&](const ambler::widgets::ScanDisplay& d) {
-                     window.setBusy({});
-                     window.showScan(d);
-                   });
-  QObject::connect(&simulator, &ambler::gs::SimulatorSource::scanFailed, &window,
-                   [&](const QString& message) {
-                     window.setBusy({});
-                     window.showError(message);
-                   });
-
-  // The walk: the executive over the simulator in this process, its
-  // proposals in the approval panel, the link's age in the status bar.
-  const QString operator_id = qEnvironmentVariable("USER", "operator");
-  ambler::gs::WalkSession session(walk_config, seed, operator_id);
-  auto* panel = window.approvalPanel();
-  QObject::connect(&session, &ambler::gs::WalkSession::changed, panel, [&] {
-    panel->setPhase(QString::fromStdString(phaseName(session.executive().phase())));
-    panel->showProposal(session.pending());
-    window.mapView()->setMap(session.executive().map());
-    window.mapView()->setProposal(session.pending());
-  });
-  QObject::connect(window.mapView(), &ambler::widgets::MapView::footholdClicked, &session,
-                   [&](quint64 id, double x, double y) {
-                     if (const auto why = session.editFoothold(id, x, y); !why.isEmpty())
-                       window.statusBar()->showMessage(why, 5000);
-                   });
-  QObject::connect(panel, &ambler::widgets::StepApprovalPanel::approveRequested, &session,
-                   [&](quint64 id) {
-                     if (const auto why = session.approve(id); !why.isEmpty())
-                       window.showError(why);
-                   });
-  QObject::connect(
-      panel, &ambler::widgets::StepApprovalPanel::rejectRequested, &session,
-      [&](quint64 id) { session.reject(id, QObject::tr("rejected by %1").arg(operator_id)); });
-  QObject::connect(panel, &ambler::widgets::StepApprovalPanel::autoApproveChanged, &session,
-                   &ambler::gs::WalkSession::setAutoApprove);
-  QObject::connect(&window, &ambler::widgets::MainWindow::walkRequested, &session, [&] {
-    window.showMapView();
-    session.start(5);
-  });
-  QTimer link_timer;
-  QObject::connect(&link_timer, &QTimer::timeout, &window, [&] {
-    const auto age = session.linkAgeS();
-    const bool stale = !age || *age > 3.0;
-    window.setLinkStatus(age ? QObject::tr("%1: last data %2 s ago")
-                                   .arg(session.linkDescription())
-                                   .arg(*age, 0, 'f', 1)
-                             : QObject::tr("%1: no data yet").arg(session.linkDescription()),
-                         stale && session.executive().phase() != ambler::executive::Phase::kIdle);
-  });
-  link_timer.start(500);
-
   const int walk_steps = parser.isSet(walk_option) ? parser.value(walk_option).toInt() : 0;
   if (parser.isSet(walk_option) && (walk_steps < 1 || walk_steps > 1000)) {
     std::cerr << "ambler-gs: --walk must be an integer from 1 to 1000" << std::endl;
     return 2;
   }
+
+  ambler::gs::StationOptions options;
+  options.seed = seed;
+  options.operator_id = qEnvironmentVariable("USER", "operator");
+  options.log_dir = parser.value(log_dir_option);
+  try {
+    options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
+    options.walk = ambler::walk::readDefaultWalkConfig();
+  } catch (const std::exception& e) {
+    QMessageBox::critical(nullptr, "Ambler Ground Station", e.what());
+    return 1;
+  }
+  ambler::gs::GroundStation station(options);
+  auto& window = station.window();
+
+  if (parser.isSet(startup_option)) {
+    // The first frame of the 3-D view, then the first scan in the views.
+    auto first_frame = std::make_shared<qint64>(-1);
+    QObject::connect(window.terrainView()->view(), &ambler::rendering::VtkView::frameRendered, &app,
+                     [&since_start, first_frame] {
+                       if (*first_frame < 0) *first_frame = since_start.elapsed();
+                     });
+    QObject::connect(
+        &window, &ambler::widgets::MainWindow::scanShown, &app, [&since_start, first_frame] {
+          std::cout << "{\"first_frame_ms\": " << *first_frame
+                    << ", \"first_scan_shown_ms\": " << since_start.elapsed() << "}" << std::endl;
+          QApplication::exit(0);
+        });
+  }
   if (parser.isSet(screenshot_option)) {
     const QString path = parser.value(screenshot_option);
-    auto shoot = [&, path] {
-      QTimer::singleShot(800, &app, [&, path] {
-        const bool saved = window.grab().save(path);
-        std::cout << (saved ? "saved " : "could not save ") << path.toStdString() << std::endl;
-        app.exit(saved ? 0 : 1);
-      });
-    };
-    if (walk_steps > 0)
-      QObject::connect(&session, &ambler::gs::WalkSession::changed, &app, [&, shoot] {
-        static bool shot = false;
-        if (session.pending() && !std::exchange(shot, true)) shoot();
-      });
+    if (parser.isSet(replay_option))
+      QObject::connect(&station, &ambler::gs::GroundStation::replayReady, &window,
+                       [&window, path] { screenshotOnce(window, path); });
+    else if (walk_steps > 0)
+      QObject::connect(&station, &ambler::gs::GroundStation::proposalShown, &window,
+                       [&window, path] { screenshotOnce(window, path); });
     else
-      QObject::connect(&simulator, &ambler::gs::SimulatorSource::scanReady, &app, shoot);
+      QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
+                       [&window, path] { screenshotOnce(window, path); });
   }
 
-  window.setSeed(seed);
   window.show();
   emit window.scanRequested(seed);
-  if (walk_steps > 0) {
-    window.showMapView();
-    session.start(walk_steps);
-  }
+  if (parser.isSet(replay_option)) station.openLog(parser.value(replay_option));
+  if (walk_steps > 0) station.startWalk(walk_steps);
   return app.exec();
 }

@@ -71,6 +71,7 @@ void TaskTree::end(int id, double now_s, TaskStatus status, const std::string& w
   t.status = status;
   t.ended_s = now_s;
   t.note = why;
+  if (on_ended_) on_ended_(t);
 }
 
 void TaskTree::finish(int id, double now_s) { end(id, now_s, TaskStatus::kDone, {}); }
@@ -90,6 +91,19 @@ std::vector<int> TaskTree::children(int id) const {
   for (const auto& t : tasks_)
     if (t.parent == id) out.push_back(t.id);
   return out;
+}
+
+TaskKind kindFromName(const std::string& name) {
+  for (auto k : {TaskKind::kGoal, TaskKind::kQuery, TaskKind::kApproval, TaskKind::kCommand})
+    if (kindName(k) == name) return k;
+  throw std::invalid_argument("unknown task kind \"" + name + "\"");
+}
+
+TaskStatus statusFromName(const std::string& name) {
+  for (auto s : {TaskStatus::kWaiting, TaskStatus::kActive, TaskStatus::kDone, TaskStatus::kFailed,
+                 TaskStatus::kSuspended})
+    if (statusName(s) == name) return s;
+  throw std::invalid_argument("unknown task status \"" + name + "\"");
 }
 
 }  // namespace ambler::executive

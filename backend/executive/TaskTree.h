@@ -6,6 +6,7 @@
 // the walk goes (a walk goal into step goals, each into its scan, plan,
 // approval and moves) and the console shows it.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,11 +43,20 @@ class TaskTree {
   const Task& task(int id) const { return tasks_.at(std::size_t(id)); }
   const std::vector<Task>& tasks() const { return tasks_; }
   std::vector<int> children(int id) const;
+  // Called with each task as it ends (done, failed or suspended): for the
+  // mission log, so a replay can show when each module was busy.
+  void onEnded(std::function<void(const Task&)> observer) { on_ended_ = std::move(observer); }
 
  private:
   Task& at(int id) { return tasks_.at(std::size_t(id)); }
   void end(int id, double now_s, TaskStatus status, const std::string& why);
   std::vector<Task> tasks_;
+  std::function<void(const Task&)> on_ended_;
 };
+
+// The inverses of kindName and statusName; std::invalid_argument naming
+// the text otherwise.
+TaskKind kindFromName(const std::string& name);
+TaskStatus statusFromName(const std::string& name);
 
 }  // namespace ambler::executive

@@ -1,5 +1,6 @@
 #include "executive/WalkExecutive.h"
 
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "terrain/Locus.h"
@@ -34,7 +35,16 @@ WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, Appr
       gate_(gate),
       ctx_(std::move(context)),
       opt_(std::move(options)),
-      map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)) {}
+      map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)) {
+  // Each task that ends goes to the log, for the replay's module timing.
+  tasks_.onEnded([this](const Task& t) {
+    if (!product_sink_) return;
+    const nlohmann::json p = {
+        {"name", t.name},           {"kind", kindName(t.kind)}, {"status", statusName(t.status)},
+        {"started_s", t.started_s}, {"ended_s", t.ended_s},     {"note", t.note}};
+    product_sink_(t.ended_s, "task", p.dump());
+  });
+}
 
 void WalkExecutive::start(double now_s, bool end_hold) {
   walk_task_ = tasks_.add(-1, TaskKind::kGoal, "walk " + std::to_string(opt_.steps) + " steps");

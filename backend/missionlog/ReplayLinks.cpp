@@ -23,6 +23,8 @@ double groundClockS() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+std::uint64_t firstSequenceFromClock() { return std::uint64_t(groundClockS() * 1e6); }
+
 RecordingLink::RecordingLink(link::Link& inner, MissionLog& log, std::function<double()> clock)
     : inner_(inner), log_(log), clock_(std::move(clock)) {}
 

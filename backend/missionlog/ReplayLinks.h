@@ -16,6 +16,10 @@ namespace ambler::missionlog {
 
 // Seconds on the ground's clock (the epoch), as the log's time_s.
 double groundClockS();
+// The first sequence number of a console: the ground clock in microseconds,
+// so that numbers grow across console restarts (a rover refuses one it has
+// seen).
+std::uint64_t firstSequenceFromClock();
 
 class RecordingLink : public link::Link {
  public:

@@ -39,6 +39,24 @@ GridSpec mapGrid(const std::vector<missionlog::LoggedProduct>& products,
   return GridSpec::covering(defaults.map_extent, defaults.map_resolution_m);
 }
 
+executive::Task loggedTask(const missionlog::LoggedProduct& p, const std::filesystem::path& log) {
+  const std::string context = log.string() + ": task at " + std::to_string(p.time_s) + " s";
+  try {
+    const auto json = nlohmann::json::parse(p.parameters);
+    const io::JsonFields f(json, context);
+    executive::Task t;
+    t.name = f.string("name");
+    t.kind = executive::kindFromName(f.string("kind"));
+    t.status = executive::statusFromName(f.string("status"));
+    t.started_s = f.number("started_s"), t.ended_s = f.number("ended_s");
+    return t;
+  } catch (const nlohmann::json::exception& e) {
+    throw io::FormatError(context + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw io::FormatError(context + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const Progress& progress) {
@@ -79,8 +97,12 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
   std::stable_sort(t.rows_.begin(), t.rows_.end(),
                    [](const LogRow& a, const LogRow& b) { return a.time_s < b.time_s; });
 
+  const auto products = reader.products();
+  for (const auto& p : products)
+    if (p.kind == "task") t.tasks_.push_back(loggedTask(p, log));
+
   // krotkov1989 §3 then cmu-1990 'LTM Merger', exactly as WalkExecutive.
-  terrain::ElevationMap map(mapGrid(reader.products(), log));
+  terrain::ElevationMap map(mapGrid(products, log));
   const int total = int(scans.size());
   for (int i = 0; i < total; ++i) {
     if (progress && !progress(i, total)) throw Cancelled();
@@ -107,6 +129,17 @@ executive::RoverReport MissionTimeline::roverAt(double time_s) const {
     report.take(s.message);
   }
   return report;
+}
+
+std::vector<std::pair<double, gait::Stance>> MissionTimeline::stances(
+    const gait::RoverModel& model) const {
+  std::vector<std::pair<double, gait::Stance>> out;
+  executive::RoverReport report;
+  for (const auto& s : states_) {
+    report.take(s.message);
+    if (auto stance = report.stance(model)) out.emplace_back(s.time_s, *stance);
+  }
+  return out;
 }
 
 std::size_t MissionTimeline::rowsUpTo(double time_s) const {

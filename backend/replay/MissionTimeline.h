@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "executive/ReportedStance.h"
+#include "executive/TaskTree.h"
 #include "gait/RoverModel.h"
 #include "replay/CommandTable.h"
 #include "terrain/ElevationMap.h"
@@ -48,9 +49,13 @@ class MissionTimeline {
   const MapAfterScan* mapAt(double time_s) const;
   // The latest body and leg states at or before `time_s`.
   executive::RoverReport roverAt(double time_s) const;
+  // The rover's stance after each report that completed or changed it.
+  std::vector<std::pair<double, gait::Stance>> stances(const gait::RoverModel& model) const;
   const std::vector<LogRow>& rows() const { return rows_; }
   // How many rows are at or before `time_s`.
   std::size_t rowsUpTo(double time_s) const;
+  // The executive's tasks as logged when each ended (cmu-1990 fig. 7).
+  const std::vector<executive::Task>& tasks() const { return tasks_; }
   // Times worth stepping to: each scan, each decision, each move's answer.
   const std::vector<double>& marks() const { return marks_; }
   // Messages in the log that could not be decoded (left out).
@@ -67,6 +72,7 @@ class MissionTimeline {
   std::vector<Timed> states_;  // leg and body states in time order
   std::vector<LogRow> rows_;
   std::vector<double> marks_;
+  std::vector<executive::Task> tasks_;
   long unreadable_ = 0;
 };
 

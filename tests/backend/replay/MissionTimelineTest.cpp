@@ -30,6 +30,10 @@ bool sameLayer(const terrain::Layer& a, const terrain::Layer& b) {
   return true;
 }
 
+bool endedFirst(const executive::Task& a, const executive::Task& b) {
+  return std::tie(a.ended_s, a.started_s, a.name) < std::tie(b.ended_s, b.started_s, b.name);
+}
+
 // A two-step walk in the simulator, auto-approved, recorded in a mission
 // log; what the executive mapped after each scan is kept as the truth.
 class MissionTimelineTest : public ::testing::Test {
@@ -52,19 +56,25 @@ class MissionTimelineTest : public ::testing::Test {
     executive::WalkExecutive walk(recording, signer, gate, config().gait, options);
     walk.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
       log.recordProduct(t, kind, parameters);
-      maps_.push_back(walk.map());
+      if (kind == "elevation_map") maps_.push_back(walk.map());
     });
     walk.start(now);
     for (int i = 0; i < 2000 && walk.phase() != executive::Phase::kDone; ++i)
       walk.poll(now += 0.05, 10ms);
     ASSERT_EQ(walk.phase(), executive::Phase::kDone);
     final_ = *walk.reported();
+    for (const auto& task : walk.tasks().tasks())
+      if (task.status != executive::TaskStatus::kActive &&
+          task.status != executive::TaskStatus::kWaiting)
+        tasks_.push_back(task);
+    std::sort(tasks_.begin(), tasks_.end(), endedFirst);
   }
   static void TearDownTestSuite() { std::filesystem::remove(log_path_); }
 
   static inline std::filesystem::path log_path_;
   static inline std::vector<terrain::ElevationMap> maps_;
   static inline gait::Stance final_;
+  static inline std::vector<executive::Task> tasks_;  // ended, in order
 };
 
 TEST_F(MissionTimelineTest, MapsEachScanAsTheExecutiveDid) {
@@ -91,6 +101,17 @@ TEST_F(MissionTimelineTest, MapsEachScanAsTheExecutiveDid) {
   EXPECT_EQ(progress.back(), std::make_pair(int(maps_.size()), int(maps_.size())));
   EXPECT_EQ(timeline.unreadable(), 0);
   EXPECT_EQ(timeline.mission(), "timeline test");
+  // The module timing of the walk: each task the executive ended, in order.
+  auto logged = timeline.tasks();
+  std::sort(logged.begin(), logged.end(), endedFirst);
+  ASSERT_EQ(logged.size(), tasks_.size());
+  for (std::size_t i = 0; i < tasks_.size(); ++i) {
+    EXPECT_EQ(logged[i].name, tasks_[i].name);
+    EXPECT_EQ(logged[i].kind, tasks_[i].kind);
+    EXPECT_EQ(logged[i].status, tasks_[i].status);
+    EXPECT_DOUBLE_EQ(logged[i].started_s, tasks_[i].started_s);
+    EXPECT_DOUBLE_EQ(logged[i].ended_s, tasks_[i].ended_s);
+  }
 }
 
 TEST_F(MissionTimelineTest, ScrubbingGivesTheMapAndTheRoverOfThatTime) {
@@ -112,6 +133,9 @@ TEST_F(MissionTimelineTest, ScrubbingGivesTheMapAndTheRoverOfThatTime) {
   ASSERT_TRUE(start);
   EXPECT_GT(end->body.xy.y() - start->body.xy.y(), 0.2);  // two steps forward (+y)
   EXPECT_FALSE(timeline.roverAt(timeline.firstS() - 1).body);
+  const auto history = timeline.stances(config().gait.model);
+  ASSERT_FALSE(history.empty());
+  EXPECT_NEAR((history.back().second.body.xy - final_.body.xy).norm(), 0.0, 1e-9);
 }
 
 TEST_F(MissionTimelineTest, TheTableAnswersEachCommandAndShowsEachDecision) {

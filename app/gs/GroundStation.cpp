@@ -1,0 +1,269 @@
+#include "app/gs/GroundStation.h"
+
+#include <QCheckBox>
+#include <QDateTime>
+#include <QDir>
+#include <QStatusBar>
+#include <QtConcurrent/QtConcurrentRun>
+
+#include "app/gs/DdsConnection.h"
+#include "widgets/CommandLogView.h"
+#include "widgets/MapView.h"
+#include "widgets/StepApprovalPanel.h"
+#include "widgets/TelemetryPanel.h"
+#include "widgets/TerrainView.h"
+#include "widgets/TimelineBar.h"
+
+namespace ambler::gs {
+
+GroundStation::GroundStation(StationOptions options, QObject* parent)
+    : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
+  choice_.seed = options_.seed;
+  wireWindow();
+  connect(&open_watcher_, &QFutureWatcher<std::shared_ptr<replay::MissionTimeline>>::finished, this,
+          &GroundStation::finishOpening);
+  connect(&progress_timer_, &QTimer::timeout, this, [this] {
+    if (!progress_dialog_ || !opening_) return;
+    progress_dialog_->setMaximum(std::max(1, opening_->total.load()));
+    progress_dialog_->setValue(opening_->done.load());
+  });
+  connect(&refresh_timer_, &QTimer::timeout, this, &GroundStation::refreshTelemetry);
+  refresh_timer_.start(500);
+  window_.setSeed(options_.seed);
+  connectTo(choice_);
+}
+
+GroundStation::~GroundStation() {
+  if (opening_) opening_->cancel = true;
+  open_watcher_.waitForFinished();
+}
+
+void GroundStation::wireWindow() {
+  connect(&window_, &widgets::MainWindow::scanRequested, &simulator_, [this](quint64 s) {
+    window_.setBusy(tr("Scanning the simulated course (seed %1)…").arg(s));
+    simulator_.requestScan(s);
+  });
+  connect(&simulator_, &SimulatorSource::scanReady, &window_,
+          [this](const widgets::ScanDisplay& d) {
+            window_.setBusy({});
+            window_.showScan(d);
+          });
+  connect(&simulator_, &SimulatorSource::scanFailed, &window_, [this](const QString& message) {
+    window_.setBusy({});
+    window_.showError(message);
+  });
+  connect(&window_, &widgets::MainWindow::walkRequested, this, [this] { startWalk(5); });
+  connect(&window_, &widgets::MainWindow::openLogRequested, this, &GroundStation::openLog);
+  connect(&window_, &widgets::MainWindow::connectRequested, this, [this] {
+    widgets::ConnectDialog dialog(choice_, &window_);
+    if (dialog.exec() == QDialog::Accepted) connectTo(dialog.choice());
+  });
+  connect(window_.timeline(), &widgets::TimelineBar::timeChanged, this,
+          &GroundStation::showReplayAt);
+
+  auto* panel = window_.approvalPanel();
+  connect(window_.mapView(), &widgets::MapView::footholdClicked, this,
+          [this](quint64 id, double x, double y) {
+            if (!session_) return;
+            if (const auto why = session_->editFoothold(id, x, y); !why.isEmpty())
+              window_.setStatus(why);
+          });
+  connect(panel, &widgets::StepApprovalPanel::approveRequested, this, [this](quint64 id) {
+    if (!session_) return;
+    if (const auto why = session_->approve(id); !why.isEmpty()) window_.showError(why);
+  });
+  connect(panel, &widgets::StepApprovalPanel::rejectRequested, this, [this](quint64 id) {
+    if (session_) session_->reject(id, tr("rejected by %1").arg(options_.operator_id));
+  });
+  connect(panel, &widgets::StepApprovalPanel::autoApproveChanged, this, [this](bool on) {
+    if (session_) session_->setAutoApprove(on);
+  });
+}
+
+QString GroundStation::newLogPath() const {
+  QDir dir(options_.log_dir);
+  dir.mkpath(".");
+  return dir.filePath(
+      QDateTime::currentDateTimeUtc().toString("'walk-'yyyyMMdd'T'HHmmss'Z.sqlite'"));
+}
+
+QString GroundStation::connectTo(const widgets::ConnectChoice& choice) {
+  choice_ = choice;
+  if (choice.source == widgets::ConnectChoice::Source::kLog) {
+    openLog(choice.log_file);
+    return {};
+  }
+  session_.reset();
+  timeline_.reset();
+  window_.setReplay({});
+  feet_.clear();
+  // The built-in simulator starts with the first walk, so that a launch
+  // without one leaves no empty log behind; a rover is connected now.
+  if (choice.source == widgets::ConnectChoice::Source::kDds) return openSession();
+  window_.setStatus(
+      tr("Built-in simulator on course %1: start a walk to connect").arg(choice.seed));
+  return {};
+}
+
+QString GroundStation::openSession() {
+  try {
+    RoverConnection rover =
+        choice_.source == widgets::ConnectChoice::Source::kDds
+            ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
+                            choice_.key_file.toStdString())
+            : simulatorConnection(options_.walk, choice_.seed, options_.operator_id);
+    session_ =
+        std::make_unique<WalkSession>(options_.walk, std::move(rover), newLogPath().toStdString());
+  } catch (const std::exception& e) {
+    const QString why = tr("Could not connect: %1").arg(e.what());
+    window_.showError(why);
+    return why;
+  }
+  connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
+  // The switch the operator sees decides, whenever the session was made.
+  session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());
+  showSession();
+  window_.setStatus(
+      tr("Connected to %1; logging to %2")
+          .arg(session_->linkDescription(), QString::fromStdString(session_->logPath().string())));
+  return {};
+}
+
+void GroundStation::startWalk(int steps) {
+  if (timeline_)
+    connectTo(choice_.source == widgets::ConnectChoice::Source::kLog ? widgets::ConnectChoice{}
+                                                                     : choice_);
+  if (!session_ && !openSession().isEmpty()) return;
+  window_.showMapView();
+  session_start_s_ = missionlog::groundClockS();
+  feet_.clear();
+  session_->start(steps);
+}
+
+void GroundStation::showSession() {
+  if (!session_ || timeline_) return;
+  const auto& exec = session_->executive();
+  auto* panel = window_.approvalPanel();
+  panel->setPhase(QString::fromStdString(phaseName(exec.phase())));
+  panel->showProposal(session_->pending());
+  window_.mapView()->setMap(exec.map());
+  window_.mapView()->setProposal(session_->pending());
+  window_.mapView()->setStance(exec.reported());
+  window_.terrainView()->setMap(exec.map());
+  window_.terrainView()->setRover(exec.reported(), options_.walk.gait.model, session_->pending());
+  window_.commandLog()->setRows(session_->commandRows());
+  refreshTelemetry();
+  if (session_->pending()) emit proposalShown();
+}
+
+// Between changes of phase the rover still moves: its pose, legs and the
+// module timing are refreshed twice a second, with the link's age.
+void GroundStation::refreshTelemetry() {
+  if (timeline_) return;
+  if (!session_) {
+    window_.setLinkStatus(tr("built-in simulator: no walk yet"), false);
+    return;
+  }
+  const auto& exec = session_->executive();
+  const double now = missionlog::groundClockS();
+  const auto& stance = exec.reported();
+  if (stance && (feet_.empty() || feet_.back().second.body.xy != stance->body.xy ||
+                 feet_.back().second.feet != stance->feet)) {
+    feet_.emplace_back(now, *stance);
+    window_.telemetry()->setFootHistory(feet_, session_start_s_);
+    window_.mapView()->setStance(stance);
+  }
+  window_.telemetry()->setStance(stance);
+  if (exec.phase() != executive::Phase::kIdle)
+    window_.telemetry()->setModuleTiming(exec.tasks().tasks(), session_start_s_, now);
+  const auto age = session_->linkAgeS();
+  const bool stale = !age || *age > 3.0;
+  window_.setLinkStatus(
+      age ? tr("%1: last data %2 s ago").arg(session_->linkDescription()).arg(*age, 0, 'f', 1)
+          : tr("%1: no data yet").arg(session_->linkDescription()),
+      stale && exec.phase() != executive::Phase::kIdle);
+}
+
+void GroundStation::openLog(const QString& path) {
+  if (opening_) return;  // one at a time
+  if (session_ && session_->executive().phase() == executive::Phase::kExecuting) {
+    window_.showError(tr("A step is executing: open the log once it has ended."));
+    emit replayFailed(tr("a step is executing"));
+    return;
+  }
+  opening_ = std::make_shared<Opening>();
+  opening_->path = path;
+  progress_dialog_ = std::make_unique<QProgressDialog>(
+      tr("Building the terrain maps of %1…").arg(QFileInfo(path).fileName()), tr("Cancel"), 0, 1,
+      &window_);
+  progress_dialog_->setWindowTitle(tr("Opening mission log"));
+  progress_dialog_->setMinimumDuration(300);
+  connect(progress_dialog_.get(), &QProgressDialog::canceled, this,
+          [opening = opening_] { opening->cancel = true; });
+  progress_timer_.start(100);
+  auto job = opening_;
+  open_watcher_.setFuture(QtConcurrent::run([job]() -> std::shared_ptr<replay::MissionTimeline> {
+    try {
+      return std::make_shared<replay::MissionTimeline>(
+          replay::MissionTimeline::build(job->path.toStdString(), [job](int done, int total) {
+            job->done = done, job->total = total;
+            return !job->cancel.load();
+          }));
+    } catch (const std::exception& e) {
+      job->error = QString::fromUtf8(e.what());
+      return nullptr;
+    }
+  }));
+}
+
+void GroundStation::finishOpening() {
+  progress_timer_.stop();
+  progress_dialog_.reset();
+  const auto job = std::exchange(opening_, nullptr);
+  auto timeline = open_watcher_.result();
+  if (!timeline) {
+    const QString why = tr("Could not open %1: %2").arg(job->path, job->error);
+    if (!job->cancel) window_.showError(why);
+    emit replayFailed(why);
+    return;
+  }
+  if (session_) session_.reset();  // a replay cannot command anything
+  timeline_ = std::make_unique<replay::MissionTimeline>(std::move(*timeline));
+  replay_feet_ = timeline_->stances(options_.walk.gait.model);
+  window_.setReplay(QFileInfo(job->path).fileName());
+  window_.approvalPanel()->showProposal(std::nullopt);
+  window_.approvalPanel()->setPhase(tr("replay: nothing to approve"));
+  window_.commandLog()->setRows(timeline_->rows());
+  window_.telemetry()->setFootHistory(replay_feet_, timeline_->firstS());
+  window_.telemetry()->setModuleTiming(timeline_->tasks(), timeline_->firstS(), timeline_->lastS());
+  window_.setLinkStatus(tr("replay: %1 scan(s), %2 unreadable message(s)")
+                            .arg(timeline_->maps().size())
+                            .arg(timeline_->unreadable()),
+                        timeline_->unreadable() > 0);
+  window_.setStatus(
+      tr("Replaying %1 (%2)").arg(job->path, QString::fromStdString(timeline_->mission())));
+  window_.timeline()->setRange(timeline_->firstS(), timeline_->lastS(), timeline_->marks());
+  showReplayAt(window_.timeline()->time());
+  emit replayReady();
+}
+
+void GroundStation::showReplayAt(double time_s) {
+  if (!timeline_) return;
+  const auto stance = timeline_->roverAt(time_s).stance(options_.walk.gait.model);
+  auto* map_view = window_.mapView();
+  map_view->setProposal(std::nullopt);
+  map_view->setStance(stance);
+  if (const auto* m = timeline_->mapAt(time_s)) {
+    map_view->setMap(m->map);
+    window_.terrainView()->setMap(m->map);
+  } else {
+    map_view->setMap(terrain::ElevationMap(
+        timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
+  }
+  window_.terrainView()->setRover(stance, options_.walk.gait.model, std::nullopt);
+  window_.telemetry()->setStance(stance);
+  window_.telemetry()->setCursor(time_s - timeline_->firstS());
+  window_.commandLog()->setCurrentTime(time_s);
+}
+
+}  // namespace ambler::gs

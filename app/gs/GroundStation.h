@@ -1,0 +1,89 @@
+#pragma once
+
+#include <QFutureWatcher>
+#include <QObject>
+#include <QProgressDialog>
+#include <QTimer>
+#include <atomic>
+#include <memory>
+
+#include "app/gs/SimulatorSource.h"
+#include "app/gs/WalkSession.h"
+#include "replay/MissionTimeline.h"
+#include "widgets/ConnectDialog.h"
+#include "widgets/MainWindow.h"
+
+namespace ambler::gs {
+
+struct StationOptions {
+  quint64 seed = 1;                  // the built-in simulator's course
+  QString operator_id = "operator";  // who approves
+  QString log_dir;                   // where live walks are logged
+  sim::ScannerModel scanner;         // for the range-image view's scans
+  walk::WalkConfig walk;
+};
+
+// The ground station's wiring (QGroundControl style: the views never know
+// what they are connected to): the main window, the built-in simulator's
+// scans for the range view, a walk session over whichever link the
+// operator chose, or a replayed mission log on a timeline. Every view is
+// fed from here.
+class GroundStation : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit GroundStation(StationOptions options, QObject* parent = nullptr);
+  ~GroundStation() override;
+
+  widgets::MainWindow& window() { return window_; }
+  WalkSession* session() const { return session_.get(); }
+  const replay::MissionTimeline* timeline() const { return timeline_.get(); }
+
+  // A walk session over `choice` (a rover over DDS now, the built-in
+  // simulator at the first walk), or a replay of a log. Errors are shown
+  // to the operator and returned; empty on success.
+  QString connectTo(const widgets::ConnectChoice& choice);
+  // Builds the log's timeline on a worker thread with a progress dialog;
+  // replayReady() or an error follows.
+  void openLog(const QString& path);
+  // Live: the station's walk of `steps` steps on the current session.
+  void startWalk(int steps);
+
+ signals:
+  void replayReady();
+  void proposalShown();  // a step waits for the operator
+  void replayFailed(const QString& why);
+
+ private:
+  void wireWindow();
+  QString openSession();  // over choice_; empty, or why not
+  void showSession();
+  void refreshTelemetry();
+  void showReplayAt(double time_s);
+  void finishOpening();
+  QString newLogPath() const;
+
+  StationOptions options_;
+  widgets::MainWindow window_;
+  SimulatorSource simulator_;
+  widgets::ConnectChoice choice_;
+  std::unique_ptr<WalkSession> session_;
+  std::vector<std::pair<double, gait::Stance>> feet_;  // the live walk's stances
+  double session_start_s_ = 0.0;
+  std::unique_ptr<replay::MissionTimeline> timeline_;
+  std::vector<std::pair<double, gait::Stance>> replay_feet_;
+  // Opening a log: progress from the worker, cancel from the dialog.
+  struct Opening {
+    QString path;
+    std::atomic<int> done{0}, total{0};
+    std::atomic<bool> cancel{false};
+    QString error;  // written by the worker before it finishes
+  };
+  std::shared_ptr<Opening> opening_;
+  QFutureWatcher<std::shared_ptr<replay::MissionTimeline>> open_watcher_;
+  std::unique_ptr<QProgressDialog> progress_dialog_;
+  QTimer progress_timer_;
+  QTimer refresh_timer_;
+};
+
+}  // namespace ambler::gs

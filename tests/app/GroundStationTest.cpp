@@ -1,0 +1,308 @@
+// Widget tests of the ground station's workflows (issue 7) against the
+// simulator in this process, through the real wiring (GroundStation): a
+// proposal reaches the panel with its interlocks, Approve moves the rover,
+// Reject sends nothing, a click on the map moves the foothold and the
+// interlocks judge it again, auto-approve is visible when on, a logged walk
+// replays with the map of the time scrubbed to, exports write files, and
+// each main view is saved as a screenshot. Needs a display (xvfb-run).
+#include <QApplication>
+#include <QChartView>
+#include <QCheckBox>
+#include <QDir>
+#include <QFile>
+#include <QLabel>
+#include <QPushButton>
+#include <QSlider>
+#include <QStandardPaths>
+#include <QTabWidget>
+#include <QTableWidget>
+#include <QTemporaryDir>
+#include <QToolBar>
+#include <QtTest/QtTest>
+#include <set>
+
+#include "app/gs/GroundStation.h"
+#include "core/Resources.h"
+#include "widgets/CommandLogView.h"
+#include "widgets/MapView.h"
+#include "widgets/RangeImageView.h"
+#include "widgets/StepApprovalPanel.h"
+#include "widgets/TelemetryPanel.h"
+#include "widgets/TerrainView.h"
+#include "widgets/TimelineBar.h"
+
+using ambler::executive::Phase;
+using ambler::gs::GroundStation;
+using ambler::gs::WalkSession;
+using ambler::widgets::MapView;
+using ambler::widgets::StepApprovalPanel;
+
+namespace {
+
+ambler::gs::StationOptions options(const QString& log_dir) {
+  static const auto walk = ambler::walk::readDefaultWalkConfig();
+  static const auto scanner =
+      ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
+  ambler::gs::StationOptions o;
+  o.operator_id = "alice";
+  o.log_dir = log_dir;
+  o.walk = walk;
+  o.scanner = scanner;
+  return o;
+}
+
+// The station as an operator has it: the main window shown, its logs in a
+// folder of the test's own.
+struct Console {
+  QTemporaryDir logs;
+  GroundStation station{options(logs.path())};
+  StepApprovalPanel& panel = *station.window().approvalPanel();
+  MapView& map = *station.window().mapView();
+  Console() {
+    station.window().resize(1400, 900);
+    station.window().show();
+  }
+  void start(int steps) { station.startWalk(steps); }
+  WalkSession& session() { return *station.session(); }
+  void click(const Eigen::Vector2d& world) {
+    QTest::mouseClick(&map, Qt::LeftButton, {}, map.widgetPointOf(world).toPoint());
+  }
+  int movesSent() {
+    int n = 0;
+    for (const auto& t : session().executive().tasks().tasks())
+      n += (t.name == "LegMove" || t.name == "BodyMove") && t.started_s > 0;
+    return n;
+  }
+};
+
+// Distinct colours in a sample of the image: a blank or one-colour grab
+// has one or two.
+int colourCount(const QImage& image) {
+  std::set<QRgb> colours;
+  for (int y = 0; y < image.height(); y += 3)
+    for (int x = 0; x < image.width(); x += 3) colours.insert(image.pixel(x, y));
+  return int(colours.size());
+}
+
+}  // namespace
+
+class GroundStationTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() { QStandardPaths::setTestModeEnabled(true); }
+
+  void approvingAStepMovesTheRover() {
+    Console c;
+    QVERIFY(!c.panel.approveButton()->isEnabled());  // nothing to approve yet
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    QCOMPARE(c.panel.interlockTable()->rowCount(), 5);
+    for (int row = 0; row < 5; ++row)
+      QCOMPARE(c.panel.interlockTable()->item(row, 1)->text(), QString("passed"));
+    const auto before = c.session().executive().reported()->body.xy;
+    QTest::mouseClick(c.panel.approveButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 30000);
+    const auto after = c.session().executive().reported()->body.xy;
+    QVERIFY2((after - before).norm() > 0.1, "the rover did not move");
+    QVERIFY(!c.panel.approveButton()->isEnabled());
+    QVERIFY(c.session().linkAgeS().has_value());
+    // A second walk from where the first ended.
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    QVERIFY((c.session().pending()->from.body.xy - after).norm() < 0.05);
+  }
+
+  void theMapShowsTheKnownCellsOfTheFirstScan() {
+    Console c;
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.session().pending().has_value(), 30000);
+    const QImage shot = c.map.grab().toImage();
+    const QRect r = c.map.mapRect().toRect();
+    int known = 0, unknown = 0;
+    for (int y = r.top() + 1; y < r.bottom(); y += 2)
+      for (int x = r.left() + 1; x < r.right(); x += 2) {
+        const QColor p = shot.pixelColor(x, y);
+        if (p == QColor(40, 40, 40))
+          ++unknown;
+        else
+          ++known;
+      }
+    // The scanner sees ahead of the rover: the view holds both.
+    QVERIFY2(known > 2000, qPrintable(QString::number(known)));
+    QVERIFY(unknown > 2000);
+    QVERIFY(c.session().executive().map().knownCount() > 1000);
+  }
+
+  void editingTheFootholdOnTheMapRechecksTheInterlocks() {
+    Console c;
+    c.start(6);
+    // The first steps may move the body only: approve until a leg moves.
+    for (int i = 0; i < 6; ++i) {
+      QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+      if (c.session().pending()->plan.leg >= 0) break;
+      QTest::mouseClick(c.panel.approveButton(), Qt::LeftButton);
+      QTRY_VERIFY_WITH_TIMEOUT(!c.session().pending().has_value(), 30000);
+    }
+    QVERIFY(c.session().pending()->plan.leg >= 0);
+    const Eigen::Vector2d planned = c.session().pending()->plan.foothold.head<2>();
+    // Four metres further ahead: out of the leg's reach.
+    c.click(planned + Eigen::Vector2d(0, 4));
+    QTRY_VERIFY(!c.panel.approveButton()->isEnabled());
+    bool failed = false;
+    for (int row = 0; row < c.panel.interlockTable()->rowCount(); ++row)
+      failed |= c.panel.interlockTable()->item(row, 1)->text() == "FAILED";
+    QVERIFY(failed);
+    // Back where the planner put it: every interlock passes again.
+    c.click(planned);
+    QTRY_VERIFY(c.panel.approveButton()->isEnabled());
+    QVERIFY((c.session().pending()->plan.foothold.head<2>() - planned).norm() < 0.1);
+  }
+
+  void rejectingAStepSendsNothing() {
+    Console c;
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.rejectButton()->isEnabled(), 30000);
+    // (Xvfb has no window manager to activate the window for the shortcut.)
+    QCOMPARE(c.panel.rejectButton()->shortcut(), QKeySequence(Qt::CTRL | Qt::Key_Backspace));
+    QTest::mouseClick(c.panel.rejectButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kSuspended, 5000);
+    QTest::qWait(300);
+    QCOMPARE(c.movesSent(), 0);
+    QVERIFY(!c.panel.rejectButton()->isEnabled());
+  }
+
+  void autoApproveIsVisibleAndWalksOnItsOwn() {
+    Console c;
+    c.start(2);
+    c.panel.autoApproveSwitch()->setChecked(true);
+    // The banner is red while auto-approve is on.
+    const QImage shot = c.panel.banner()->grab().toImage();
+    const QColor banner = shot.pixelColor(2, 2);
+    QVERIFY2(banner.red() > 150 && banner.green() < 80, qPrintable(banner.name()));
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 60000);
+    QCOMPARE(c.session().executive().stepsDone(), 2);
+  }
+
+  void theEventTableAnswersEachCommand() {
+    Console c;
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    auto* table = c.station.window().commandLog();
+    QTRY_VERIFY(table->rowCount() >= 2);  // Resume, AcquireScan
+    bool scan_accepted = false;
+    for (int row = 0; row < table->rowCount(); ++row)
+      scan_accepted |= table->cellText(row, 2) == "AcquireScan range scanner" &&
+                       table->cellText(row, 3) == "accepted" && table->cellText(row, 1) == "alice";
+    QVERIFY(scan_accepted);
+    QTest::mouseClick(c.panel.approveButton(), Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(table->cellText(table->rowCount() - 1, 2).startsWith("BodyMove"),
+                             30000);
+    bool approved = false;
+    for (int row = 0; row < table->rowCount(); ++row)
+      approved |= table->cellText(row, 2).startsWith("approved proposal");
+    QVERIFY(approved);
+  }
+
+  void aLoggedWalkReplaysWithTheMapOfTheTimeScrubbedTo() {
+    Console c;
+    c.panel.autoApproveSwitch()->setChecked(true);
+    c.start(2);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 60000);
+    const QString log = QString::fromStdString(c.session().logPath().string());
+    const auto live_known = c.session().executive().map().knownCount();
+    const Eigen::Vector2d end_xy = c.session().executive().reported()->body.xy;
+
+    QSignalSpy ready(&c.station, &GroundStation::replayReady);
+    c.station.openLog(log);
+    QVERIFY(ready.wait(30000));
+    const auto* timeline = c.station.timeline();
+    QVERIFY(timeline && timeline->maps().size() >= 2);
+    QVERIFY(c.station.window().timelineBar()->isVisible());
+    QVERIFY(!c.station.window().walkAction()->isEnabled());  // a replay commands nothing
+    auto* bar = c.station.window().timeline();
+    QCOMPARE(c.map.map()->knownCount(), 0);  // the start: before the first scan
+
+    // Drag the slider to just after the first scan: that scan's map.
+    const auto& first = timeline->maps().front();
+    const int at_first = int(std::ceil((first.time_s - timeline->firstS()) /
+                                       (timeline->lastS() - timeline->firstS()) * 10000));
+    bar->slider()->setValue(at_first);
+    QVERIFY(bar->time() >= first.time_s && bar->time() < timeline->maps()[1].time_s);
+    QCOMPARE(c.map.map()->knownCount(), first.map.knownCount());
+    const auto rows_then = c.station.window().commandLog()->rowCount();
+    QVERIFY(rows_then > 0);
+
+    // Stepping on reaches the last scan's map, the one the walk ended with.
+    for (int i = 0; i < 200 && bar->time() < timeline->lastS(); ++i) bar->stepForward();
+    QCOMPARE(bar->time(), timeline->lastS());
+    QCOMPARE(c.map.map()->knownCount(), live_known);
+    QVERIFY(c.map.map()->knownCount() > first.map.knownCount());
+    const auto end = timeline->roverAt(bar->time()).stance(options({}).walk.gait.model);
+    QVERIFY(end);
+    QVERIFY((end->body.xy - end_xy).norm() < 1e-9);
+    QVERIFY(c.station.window().commandLog()->rowCount() >= rows_then);
+  }
+
+  void exportsWriteTheMapLayersPlotsAndTable() {
+    Console c;
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    QTemporaryDir out;
+    auto& w = c.station.window();
+    QCOMPARE(w.exportMapLayers(out.path()), QString());
+    for (const char* f : {"elevation.tif", "sigma.tif", "state.tif"})
+      QVERIFY2(QFile::exists(QDir(out.path()).filePath(f)), f);
+    QCOMPARE(w.exportPlots(out.path()), QString());
+    QVERIFY(QImage(QDir(out.path()).filePath("module-timing.png")).width() > 100);
+    QVERIFY(QImage(QDir(out.path()).filePath("foot-heights.png")).width() > 100);
+    const QString csv = QDir(out.path()).filePath("commands.csv");
+    QCOMPARE(w.exportTable(csv), QString());
+    QFile file(csv);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const auto lines = QString::fromUtf8(file.readAll()).split('\n', Qt::SkipEmptyParts);
+    QCOMPARE(lines.front(), QString("time_s,operator,command,answer,reason"));
+    QCOMPARE(lines.size(), w.commandLog()->rowCount() + 1);
+    // A folder that cannot be written is named in the error, not a crash.
+    QVERIFY(w.exportTable("/proc/no/such/commands.csv").contains("/proc/no/such"));
+  }
+
+  // Screenshots of each main view into the build tree (docs/images keeps
+  // copies), each checked not to be blank.
+  void screenshotsOfEachMainView() {
+    Console c;
+    auto& w = c.station.window();
+    QSignalSpy scanned(&w, &ambler::widgets::MainWindow::scanShown);
+    emit w.scanRequested(1);
+    QVERIFY(scanned.wait(30000));
+    const QDir dir(AMBLER_SCREENSHOT_DIR);
+    QVERIFY(dir.mkpath("."));
+    auto save = [&](QWidget* widget, const QString& name) {
+      QTest::qWait(300);  // let VTK and the charts paint
+      const QImage shot = widget->grab().toImage();
+      QVERIFY2(colourCount(shot) > 20, qPrintable(name + " looks blank"));
+      QVERIFY(shot.save(dir.filePath(name)));
+    };
+    save(w.rangeView(), "range-image.png");
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    save(&w, "main-window.png");
+    save(&c.map, "terrain-map.png");
+    save(w.terrainView(), "3d-view.png");
+    save(&c.panel, "step-approval.png");
+    QTest::mouseClick(c.panel.approveButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 30000);
+    QTest::qWait(600);  // a telemetry refresh
+    save(w.telemetry(), "telemetry.png");
+    save(w.commandLog(), "events.png");
+    QSignalSpy ready(&c.station, &GroundStation::replayReady);
+    c.station.openLog(QString::fromStdString(c.session().logPath().string()));
+    QVERIFY(ready.wait(30000));
+    w.timeline()->setTime(w.timeline()->time() +
+                          0.6 * (c.station.timeline()->lastS() - c.station.timeline()->firstS()));
+    save(&w, "replay.png");
+  }
+};
+
+QTEST_MAIN(GroundStationTest)
+#include "GroundStationTest.moc"

@@ -1,0 +1,216 @@
+#include "widgets/TelemetryPanel.h"
+
+#include <QAreaSeries>
+#include <QCategoryAxis>
+#include <QChart>
+#include <QChartView>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineSeries>
+#include <QTabWidget>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <QValueAxis>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace ambler::widgets {
+
+namespace {
+
+// The TCA modules of cmu-1990 fig. 7 and the tasks each one does.
+struct Lane {
+  const char* name;
+  QColor color;
+  bool (*owns)(const executive::Task&);
+};
+const std::array<Lane, 4> kLanes = {{
+    {"Perception", QColor(33, 150, 243), [](const executive::Task& t) { return t.name == "scan"; }},
+    {"Planning", QColor(76, 175, 80), [](const executive::Task& t) { return t.name == "plan"; }},
+    {"Operator", QColor(255, 152, 0),
+     [](const executive::Task& t) { return t.kind == executive::TaskKind::kApproval; }},
+    {"Control", QColor(156, 39, 176),
+     [](const executive::Task& t) { return t.kind == executive::TaskKind::kCommand; }},
+}};
+
+QChartView* makeChartView(const QString& title) {
+  auto* chart = new QChart;
+  chart->setTitle(title);
+  chart->legend()->setAlignment(Qt::AlignBottom);
+  chart->setMargins(QMargins(4, 4, 4, 4));
+  auto* view = new QChartView(chart);
+  view->setRenderHint(QPainter::Antialiasing);
+  view->setMinimumHeight(200);
+  return view;
+}
+
+QValueAxis* timeAxis(double span_s) {
+  auto* axis = new QValueAxis;
+  axis->setTitleText(QObject::tr("Time since start [s]"));
+  axis->setRange(0, std::max(span_s, 1.0));
+  axis->setLabelFormat(span_s < 10 ? "%.1f" : "%.0f");
+  return axis;
+}
+
+// Clears the chart and gives it a fresh time axis.
+QValueAxis* resetChart(QChart* chart, double span_s) {
+  chart->removeAllSeries();
+  for (auto* axis : chart->axes()) {
+    chart->removeAxis(axis);
+    delete axis;
+  }
+  auto* x = timeAxis(span_s);
+  chart->addAxis(x, Qt::AlignBottom);
+  return x;
+}
+
+constexpr const char* kCursorName = "cursor";
+
+}  // namespace
+
+TelemetryPanel::TelemetryPanel(QWidget* parent)
+    : QWidget(parent),
+      pose_(new QLabel),
+      legs_(new QTableWidget(gait::kLegCount, 5)),
+      timing_view_(makeChartView(tr("Module timing (cmu-1990 fig. 7)"))),
+      feet_view_(makeChartView(tr("Foot heights"))) {
+  pose_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  legs_->setHorizontalHeaderLabels(
+      {tr("Leg"), tr("Contact"), tr("Foot x [m]"), tr("Foot y [m]"), tr("Foot z [m]")});
+  legs_->verticalHeader()->hide();
+  legs_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+  legs_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  legs_->verticalHeader()->setDefaultSectionSize(22);
+  legs_->setFixedHeight(legs_->horizontalHeader()->sizeHint().height() + gait::kLegCount * 22 +
+                        2 * legs_->frameWidth());
+  auto* plots = new QTabWidget;
+  plots->addTab(timing_view_, tr("Module timing"));
+  plots->addTab(feet_view_, tr("Foot heights"));
+  // Wide and short, to sit under the views: the state on the left, the
+  // plots over time on the right.
+  auto* state = new QVBoxLayout;
+  state->addWidget(pose_);
+  state->addWidget(legs_);
+  state->addStretch(1);
+  auto* layout = new QHBoxLayout(this);
+  layout->addLayout(state, 2);
+  layout->addWidget(plots, 3);
+  setStance(std::nullopt);
+}
+
+void TelemetryPanel::setStance(const std::optional<gait::Stance>& stance) {
+  if (!stance) {
+    pose_->setText(tr("No rover state yet"));
+    for (int r = 0; r < gait::kLegCount; ++r)
+      for (int c = 0; c < legs_->columnCount(); ++c)
+        legs_->setItem(r, c, new QTableWidgetItem(c == 0 ? QString::number(r) : "–"));
+    return;
+  }
+  const auto& b = stance->body;
+  pose_->setText(tr("Body x %1 m, y %2 m, link plane z %3 m, heading %4°")
+                     .arg(b.xy.x(), 0, 'f', 3)
+                     .arg(b.xy.y(), 0, 'f', 3)
+                     .arg(b.link_z, 0, 'f', 3)
+                     .arg(b.heading_rad * 180.0 / M_PI, 0, 'f', 1));
+  for (int r = 0; r < gait::kLegCount; ++r) {
+    const auto& f = stance->feet[std::size_t(r)];
+    const bool contact = stance->supporting[std::size_t(r)];
+    const QStringList cells = {QString::number(r), contact ? tr("yes") : tr("no"),
+                               QString::number(f.x(), 'f', 3), QString::number(f.y(), 'f', 3),
+                               QString::number(f.z(), 'f', 3)};
+    for (int c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(cells[c]);
+      if (c == 1 && !contact) item->setForeground(QColor(183, 28, 28));
+      legs_->setItem(r, c, item);
+    }
+  }
+}
+
+// Each lane is an area between its baseline and a step line that rises
+// while one of its tasks runs.
+void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, double t0,
+                                     double now_s) {
+  QChart* chart = timing_view_->chart();
+  auto* x = resetChart(chart, now_s - t0);
+  auto* y = new QCategoryAxis;
+  y->setRange(-0.5, double(kLanes.size()) - 0.5);
+  y->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
+  chart->addAxis(y, Qt::AlignLeft);
+  // Categories must be appended bottom up; the first lane is on top.
+  for (std::size_t lane = kLanes.size(); lane-- > 0;)
+    y->append(kLanes[lane].name, double(kLanes.size() - 1 - lane));
+  for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
+    const double base = double(kLanes.size() - 1 - lane);
+    auto* upper = new QLineSeries;
+    auto* lower = new QLineSeries;
+    upper->append(0, base - 0.3);
+    for (const auto& t : tasks) {
+      if (!kLanes[lane].owns(t) || t.started_s <= 0) continue;
+      const double a = t.started_s - t0;
+      const double b = (t.ended_s > 0 ? t.ended_s : now_s) - t0;
+      upper->append({{a, base - 0.3}, {a, base + 0.3}, {b, base + 0.3}, {b, base - 0.3}});
+    }
+    upper->append(now_s - t0, base - 0.3);
+    lower->append({{0, base - 0.3}, {now_s - t0, base - 0.3}});
+    auto* area = new QAreaSeries(upper, lower);
+    area->setName(kLanes[lane].name);
+    area->setColor(kLanes[lane].color);
+    area->setBorderColor(kLanes[lane].color);
+    chart->addSeries(area);
+    area->attachAxis(x);
+    area->attachAxis(y);
+  }
+  chart->legend()->hide();
+}
+
+void TelemetryPanel::setFootHistory(const std::vector<std::pair<double, gait::Stance>>& history,
+                                    double t0) {
+  QChart* chart = feet_view_->chart();
+  auto* x = resetChart(chart, history.empty() ? 1.0 : history.back().first - t0);
+  auto* y = new QValueAxis;
+  y->setTitleText(tr("Foot z [m]"));
+  chart->addAxis(y, Qt::AlignLeft);
+  double lo = INFINITY, hi = -INFINITY;
+  for (int leg = 0; leg < gait::kLegCount; ++leg) {
+    auto* series = new QLineSeries;
+    series->setName(tr("leg %1").arg(leg));
+    for (const auto& [t, stance] : history) {
+      const double z = stance.feet[std::size_t(leg)].z();
+      series->append(t - t0, z);
+      lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+    chart->addSeries(series);
+    series->attachAxis(x);
+    series->attachAxis(y);
+  }
+  if (hi > lo) y->setRange(lo - 0.05, hi + 0.05);
+  chart->legend()->show();
+}
+
+void TelemetryPanel::setCursor(std::optional<double> time_s) {
+  for (QChartView* view : {timing_view_, feet_view_}) {
+    QChart* chart = view->chart();
+    for (auto* s : chart->series())
+      if (s->objectName() == kCursorName) {
+        chart->removeSeries(s);
+        delete s;
+      }
+    const auto axes_x = chart->axes(Qt::Horizontal), axes_y = chart->axes(Qt::Vertical);
+    if (!time_s || axes_x.isEmpty() || axes_y.isEmpty()) continue;
+    auto* y = qobject_cast<QValueAxis*>(axes_y.front());  // QCategoryAxis is one too
+    if (!y) continue;
+    const double lo = y->min(), hi = y->max();
+    auto* cursor = new QLineSeries;
+    cursor->setObjectName(kCursorName);
+    cursor->setName(tr("now"));
+    cursor->setPen(QPen(Qt::red, 1.5, Qt::DashLine));
+    cursor->append({{*time_s, lo}, {*time_s, hi}});
+    chart->addSeries(cursor);
+    cursor->attachAxis(axes_x.front());
+    cursor->attachAxis(y);
+  }
+}
+
+}  // namespace ambler::widgets
