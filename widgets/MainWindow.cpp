@@ -175,7 +175,8 @@ QString MainWindow::exportMapLayers(const QString& dir) const {
 
 QString MainWindow::exportPlots(const QString& dir) const {
   const std::pair<QChartView*, QString> plots[] = {{telemetry_->timingView(), "module-timing.png"},
-                                                   {telemetry_->feetView(), "foot-heights.png"}};
+                                                   {telemetry_->feetView(), "foot-heights.png"},
+                                                   {telemetry_->loadsView(), "foot-loads.png"}};
   for (const auto& [view, name] : plots) {
     const QString path = QDir(dir).filePath(name);
     if (!view->grab().save(path)) return tr("Could not write %1").arg(path);

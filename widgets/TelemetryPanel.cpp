@@ -68,17 +68,43 @@ QValueAxis* resetChart(QChart* chart, double span_s) {
 
 constexpr const char* kCursorName = "cursor";
 
+// One line per leg of `value(sample, leg)` over time, the y axis padded by `pad`.
+template <typename Value>
+void plotPerLeg(QChart* chart, const std::vector<executive::RoverSample>& history, double t0,
+                const QString& y_title, double pad, Value value) {
+  auto* x = resetChart(chart, history.empty() ? 1.0 : history.back().time_s - t0);
+  auto* y = new QValueAxis;
+  y->setTitleText(y_title);
+  chart->addAxis(y, Qt::AlignLeft);
+  double lo = INFINITY, hi = -INFINITY;
+  for (int leg = 0; leg < gait::kLegCount; ++leg) {
+    auto* series = new QLineSeries;
+    series->setName(TelemetryPanel::tr("leg %1").arg(leg));
+    for (const auto& sample : history) {
+      const double v = value(sample, leg);
+      series->append(sample.time_s - t0, v);
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    chart->addSeries(series);
+    series->attachAxis(x);
+    series->attachAxis(y);
+  }
+  if (hi >= lo) y->setRange(lo - pad, hi + pad);
+  chart->legend()->show();
+}
+
 }  // namespace
 
 TelemetryPanel::TelemetryPanel(QWidget* parent)
     : QWidget(parent),
       pose_(new QLabel),
-      legs_(new QTableWidget(gait::kLegCount, 5)),
+      legs_(new QTableWidget(gait::kLegCount, 6)),
       timing_view_(makeChartView(tr("Module timing (cmu-1990 fig. 7)"))),
-      feet_view_(makeChartView(tr("Foot heights"))) {
+      feet_view_(makeChartView(tr("Foot heights"))),
+      loads_view_(makeChartView(tr("Foot loads (force sensors)"))) {
   pose_->setTextInteractionFlags(Qt::TextSelectableByMouse);
-  legs_->setHorizontalHeaderLabels(
-      {tr("Leg"), tr("Contact"), tr("Foot x [m]"), tr("Foot y [m]"), tr("Foot z [m]")});
+  legs_->setHorizontalHeaderLabels({tr("Leg"), tr("Contact"), tr("Load [kN]"), tr("Foot x [m]"),
+                                    tr("Foot y [m]"), tr("Foot z [m]")});
   legs_->verticalHeader()->hide();
   legs_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
   legs_->setEditTriggers(QAbstractItemView::NoEditTriggers);
@@ -88,6 +114,7 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   auto* plots = new QTabWidget;
   plots->addTab(timing_view_, tr("Module timing"));
   plots->addTab(feet_view_, tr("Foot heights"));
+  plots->addTab(loads_view_, tr("Foot loads"));
   // Wide and short, to sit under the views: the state on the left, the
   // plots over time on the right.
   auto* state = new QVBoxLayout;
@@ -97,28 +124,32 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   auto* layout = new QHBoxLayout(this);
   layout->addLayout(state, 2);
   layout->addWidget(plots, 3);
-  setStance(std::nullopt);
+  setRover(std::nullopt);
 }
 
-void TelemetryPanel::setStance(const std::optional<gait::Stance>& stance) {
-  if (!stance) {
+void TelemetryPanel::setRover(const std::optional<executive::RoverSample>& rover) {
+  if (!rover) {
     pose_->setText(tr("No rover state yet"));
     for (int r = 0; r < gait::kLegCount; ++r)
       for (int c = 0; c < legs_->columnCount(); ++c)
         legs_->setItem(r, c, new QTableWidgetItem(c == 0 ? QString::number(r) : "–"));
     return;
   }
-  const auto& b = stance->body;
+  const auto& stance = rover->stance;
+  const auto& b = stance.body;
   pose_->setText(tr("Body x %1 m, y %2 m, link plane z %3 m, heading %4°")
                      .arg(b.xy.x(), 0, 'f', 3)
                      .arg(b.xy.y(), 0, 'f', 3)
                      .arg(b.link_z, 0, 'f', 3)
                      .arg(b.heading_rad * 180.0 / M_PI, 0, 'f', 1));
   for (int r = 0; r < gait::kLegCount; ++r) {
-    const auto& f = stance->feet[std::size_t(r)];
-    const bool contact = stance->supporting[std::size_t(r)];
-    const QStringList cells = {QString::number(r), contact ? tr("yes") : tr("no"),
-                               QString::number(f.x(), 'f', 3), QString::number(f.y(), 'f', 3),
+    const auto& f = stance.feet[std::size_t(r)];
+    const bool contact = stance.supporting[std::size_t(r)];
+    const QStringList cells = {QString::number(r),
+                               contact ? tr("yes") : tr("no"),
+                               QString::number(rover->force_n[std::size_t(r)] / 1000.0, 'f', 2),
+                               QString::number(f.x(), 'f', 3),
+                               QString::number(f.y(), 'f', 3),
                                QString::number(f.z(), 'f', 3)};
     for (int c = 0; c < cells.size(); ++c) {
       auto* item = new QTableWidgetItem(cells[c]);
@@ -165,32 +196,15 @@ void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, 
   chart->legend()->hide();
 }
 
-void TelemetryPanel::setFootHistory(const std::vector<std::pair<double, gait::Stance>>& history,
-                                    double t0) {
-  QChart* chart = feet_view_->chart();
-  auto* x = resetChart(chart, history.empty() ? 1.0 : history.back().first - t0);
-  auto* y = new QValueAxis;
-  y->setTitleText(tr("Foot z [m]"));
-  chart->addAxis(y, Qt::AlignLeft);
-  double lo = INFINITY, hi = -INFINITY;
-  for (int leg = 0; leg < gait::kLegCount; ++leg) {
-    auto* series = new QLineSeries;
-    series->setName(tr("leg %1").arg(leg));
-    for (const auto& [t, stance] : history) {
-      const double z = stance.feet[std::size_t(leg)].z();
-      series->append(t - t0, z);
-      lo = std::min(lo, z), hi = std::max(hi, z);
-    }
-    chart->addSeries(series);
-    series->attachAxis(x);
-    series->attachAxis(y);
-  }
-  if (hi > lo) y->setRange(lo - 0.05, hi + 0.05);
-  chart->legend()->show();
+void TelemetryPanel::setHistory(const std::vector<executive::RoverSample>& history, double t0) {
+  plotPerLeg(feet_view_->chart(), history, t0, tr("Foot z [m]"), 0.05,
+             [](const auto& s, int leg) { return s.stance.feet[std::size_t(leg)].z(); });
+  plotPerLeg(loads_view_->chart(), history, t0, tr("Load [kN]"), 1.0,
+             [](const auto& s, int leg) { return s.force_n[std::size_t(leg)] / 1000.0; });
 }
 
 void TelemetryPanel::setCursor(std::optional<double> time_s) {
-  for (QChartView* view : {timing_view_, feet_view_}) {
+  for (QChartView* view : {timing_view_, feet_view_, loads_view_}) {
     QChart* chart = view->chart();
     for (auto* s : chart->series())
       if (s->objectName() == kCursorName) {

@@ -96,7 +96,7 @@ QString GroundStation::connectTo(const widgets::ConnectChoice& choice) {
   session_.reset();
   timeline_.reset();
   window_.setReplay({});
-  feet_.clear();
+  history_.clear();
   // The built-in simulator starts with the first walk, so that a launch
   // without one leaves no empty log behind; a rover is connected now.
   if (choice.source == widgets::ConnectChoice::Source::kDds) return openSession();
@@ -136,7 +136,7 @@ void GroundStation::startWalk(int steps) {
   if (!session_ && !openSession().isEmpty()) return;
   window_.showMapView();
   session_start_s_ = missionlog::groundClockS();
-  feet_.clear();
+  history_.clear();
   session_->start(steps);
 }
 
@@ -166,14 +166,15 @@ void GroundStation::refreshTelemetry() {
   }
   const auto& exec = session_->executive();
   const double now = missionlog::groundClockS();
-  const auto& stance = exec.reported();
-  if (stance && (feet_.empty() || feet_.back().second.body.xy != stance->body.xy ||
-                 feet_.back().second.feet != stance->feet)) {
-    feet_.emplace_back(now, *stance);
-    window_.telemetry()->setFootHistory(feet_, session_start_s_);
-    window_.mapView()->setStance(stance);
+  const auto sample = exec.report().sample(options_.walk.gait.model, now);
+  if (sample && (history_.empty() || history_.back().stance.body.xy != sample->stance.body.xy ||
+                 history_.back().stance.feet != sample->stance.feet ||
+                 history_.back().force_n != sample->force_n)) {
+    history_.push_back(*sample);
+    window_.telemetry()->setHistory(history_, session_start_s_);
+    window_.mapView()->setStance(sample->stance);
   }
-  window_.telemetry()->setStance(stance);
+  window_.telemetry()->setRover(sample);
   if (exec.phase() != executive::Phase::kIdle)
     window_.telemetry()->setModuleTiming(exec.tasks().tasks(), session_start_s_, now);
   const auto age = session_->linkAgeS();
@@ -229,12 +230,12 @@ void GroundStation::finishOpening() {
   }
   if (session_) session_.reset();  // a replay cannot command anything
   timeline_ = std::make_unique<replay::MissionTimeline>(std::move(*timeline));
-  replay_feet_ = timeline_->stances(options_.walk.gait.model);
+  replay_history_ = timeline_->samples(options_.walk.gait.model);
   window_.setReplay(QFileInfo(job->path).fileName());
   window_.approvalPanel()->showProposal(std::nullopt);
   window_.approvalPanel()->setPhase(tr("replay: nothing to approve"));
   window_.commandLog()->setRows(timeline_->rows());
-  window_.telemetry()->setFootHistory(replay_feet_, timeline_->firstS());
+  window_.telemetry()->setHistory(replay_history_, timeline_->firstS());
   window_.telemetry()->setModuleTiming(timeline_->tasks(), timeline_->firstS(), timeline_->lastS());
   window_.setLinkStatus(tr("replay: %1 scan(s), %2 unreadable message(s)")
                             .arg(timeline_->maps().size())
@@ -249,7 +250,8 @@ void GroundStation::finishOpening() {
 
 void GroundStation::showReplayAt(double time_s) {
   if (!timeline_) return;
-  const auto stance = timeline_->roverAt(time_s).stance(options_.walk.gait.model);
+  const auto rover = timeline_->roverAt(time_s).sample(options_.walk.gait.model, time_s);
+  const auto stance = rover ? std::optional(rover->stance) : std::nullopt;
   auto* map_view = window_.mapView();
   map_view->setProposal(std::nullopt);
   map_view->setStance(stance);
@@ -261,7 +263,7 @@ void GroundStation::showReplayAt(double time_s) {
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
   }
   window_.terrainView()->setRover(stance, options_.walk.gait.model, std::nullopt);
-  window_.telemetry()->setStance(stance);
+  window_.telemetry()->setRover(rover);
   window_.telemetry()->setCursor(time_s - timeline_->firstS());
   window_.commandLog()->setCurrentTime(time_s);
 }

@@ -68,10 +68,10 @@ class GroundStation : public QObject {
   SimulatorSource simulator_;
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;
-  std::vector<std::pair<double, gait::Stance>> feet_;  // the live walk's stances
+  std::vector<executive::RoverSample> history_;  // the live walk's
   double session_start_s_ = 0.0;
   std::unique_ptr<replay::MissionTimeline> timeline_;
-  std::vector<std::pair<double, gait::Stance>> replay_feet_;
+  std::vector<executive::RoverSample> replay_history_;
   // Opening a log: progress from the worker, cancel from the dialog.
   struct Opening {
     QString path;

@@ -23,4 +23,13 @@ std::optional<gait::Stance> RoverReport::stance(const gait::RoverModel& model) c
   return s;
 }
 
+std::optional<RoverSample> RoverReport::sample(const gait::RoverModel& model, double time_s) const {
+  auto s = stance(model);
+  if (!s) return std::nullopt;
+  RoverSample out{time_s, *s, {}};
+  for (int i = 0; i < gait::kLegCount; ++i)
+    out.force_n[std::size_t(i)] = legs[std::size_t(i)]->force_n;
+  return out;
+}
+
 }  // namespace ambler::executive

@@ -92,6 +92,7 @@ class WalkExecutive {
   const TaskTree& tasks() const { return tasks_; }
   const std::vector<ExecutiveEvent>& events() const { return events_; }
   const std::optional<gait::Stance>& reported() const { return reported_; }
+  const RoverReport& report() const { return report_; }
   const terrain::ElevationMap& map() const { return map_; }
   // Why the rover last said it holds; empty when it does not.
   const std::string& roverHolding() const { return rover_holding_; }

@@ -162,7 +162,7 @@ void getFloats(Reader& r, std::vector<float>& values, std::size_t n, const char*
 
 void put(Writer& w, const Heartbeat& m) { w.put(m.count), w.put(m.holding), w.put(m.hold_reason); }
 void put(Writer& w, const LegState& m) {
-  w.put(std::uint8_t(m.leg)), putJoints(w, m.joints), w.put(m.contact);
+  w.put(std::uint8_t(m.leg)), putJoints(w, m.joints), w.put(m.contact), w.put(m.force_n);
 }
 void put(Writer& w, const BodyState& m) {
   w.put(m.x_m), w.put(m.y_m), w.put(m.z_m), w.put(m.heading_rad), w.put(m.moving);
@@ -220,6 +220,7 @@ LegState get(Reader& r) {
   m.leg = getLeg(r);
   m.joints = getJoints(r);
   m.contact = r.getBool("contact");
+  m.force_n = r.getFinite("foot force");
   return m;
 }
 template <>

@@ -33,6 +33,7 @@ struct LegState {
   int leg = 0;
   gait::LegJoints joints;
   bool contact = false;
+  double force_n = 0.0;  // vertical load on the foot [N]
 };
 
 // The body's pose in the world as the rover believes it (dead reckoning).

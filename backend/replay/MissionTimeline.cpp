@@ -131,13 +131,12 @@ executive::RoverReport MissionTimeline::roverAt(double time_s) const {
   return report;
 }
 
-std::vector<std::pair<double, gait::Stance>> MissionTimeline::stances(
-    const gait::RoverModel& model) const {
-  std::vector<std::pair<double, gait::Stance>> out;
+std::vector<executive::RoverSample> MissionTimeline::samples(const gait::RoverModel& model) const {
+  std::vector<executive::RoverSample> out;
   executive::RoverReport report;
   for (const auto& s : states_) {
     report.take(s.message);
-    if (auto stance = report.stance(model)) out.emplace_back(s.time_s, *stance);
+    if (auto sample = report.sample(model, s.time_s)) out.push_back(std::move(*sample));
   }
   return out;
 }

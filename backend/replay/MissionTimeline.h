@@ -50,7 +50,7 @@ class MissionTimeline {
   // The latest body and leg states at or before `time_s`.
   executive::RoverReport roverAt(double time_s) const;
   // The rover's stance after each report that completed or changed it.
-  std::vector<std::pair<double, gait::Stance>> stances(const gait::RoverModel& model) const;
+  std::vector<executive::RoverSample> samples(const gait::RoverModel& model) const;
   const std::vector<LogRow>& rows() const { return rows_; }
   // How many rows are at or before `time_s`.
   std::size_t rowsUpTo(double time_s) const;

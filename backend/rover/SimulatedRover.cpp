@@ -36,9 +36,10 @@ std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
 std::vector<link::Telemetry> SimulatedRover::state(double now_s) {
   std::vector<link::Telemetry> out;
   const auto legs = world_.rover().legStates();
-  for (int leg = 0; leg < gait::kLegCount; ++leg)
-    out.push_back(message(
-        now_s, link::LegState{leg, legs[std::size_t(leg)].joints, legs[std::size_t(leg)].contact}));
+  for (int leg = 0; leg < gait::kLegCount; ++leg) {
+    const auto& s = legs[std::size_t(leg)];
+    out.push_back(message(now_s, link::LegState{leg, s.joints, s.contact, s.force_n}));
+  }
   // The simulator knows where the body is; a real rover would report its
   // own estimate. The ground dead-reckons from the leg states either way.
   const auto& body = world_.rover().truth().body;

@@ -1,5 +1,6 @@
 #include "sim/RoverSim.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <stdexcept>
 
@@ -210,7 +211,32 @@ std::array<LegState, gait::kLegCount> RoverSim::legStates() {
     q.vertical_m += noise_.encoder_vertical_m * unit(rng_);
     states[std::size_t(i)] = {q, truth_.supporting[std::size_t(i)]};
   }
+  const auto loads = footLoads(truth_, model_);
+  for (int i = 0; i < gait::kLegCount; ++i) states[std::size_t(i)].force_n = loads[std::size_t(i)];
   return states;
+}
+
+std::array<double, gait::kLegCount> footLoads(const gait::Stance& stance,
+                                              const gait::RoverModel& model) {
+  constexpr double kGravity = 9.81;  // [m/s^2]: the Ambler walked on Earth test sites
+  const Eigen::Vector2d cog = stance.centreOfGravity(model);
+  std::vector<int> support;
+  for (int i = 0; i < gait::kLegCount; ++i)
+    if (stance.supporting[std::size_t(i)]) support.push_back(i);
+  std::array<double, gait::kLegCount> loads{};
+  if (support.empty()) return loads;
+  // Force balance and the two moments about the centre of gravity.
+  Eigen::MatrixXd a(3, Eigen::Index(support.size()));
+  for (std::size_t k = 0; k < support.size(); ++k) {
+    const Eigen::Vector2d r = stance.feet[std::size_t(support[k])].head<2>() - cog;
+    a.col(Eigen::Index(k)) << 1.0, r.x(), r.y();
+  }
+  const Eigen::Vector3d b(model.mass_kg * kGravity, 0.0, 0.0);
+  const Eigen::VectorXd f =
+      a.transpose() * (a * a.transpose()).completeOrthogonalDecomposition().solve(b);
+  for (std::size_t k = 0; k < support.size(); ++k)
+    loads[std::size_t(support[k])] = std::max(0.0, f(Eigen::Index(k)));
+  return loads;
 }
 
 gait::Stance settleOnTerrain(gait::Stance stance, const Terrain& terrain,

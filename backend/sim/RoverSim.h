@@ -49,6 +49,7 @@ struct BodyMove {
 struct LegState {
   gait::LegJoints joints;  // encoder readings
   bool contact = false;    // force sensor over its threshold
+  double force_n = 0.0;    // what the force sensor reads [N]
 };
 
 struct MoveReport {
@@ -91,6 +92,15 @@ class RoverSim {
   std::vector<SupportSample> trace_;
   int slips_ = 0;
 };
+
+// The vertical loads on the feet of a rover standing still: the
+// minimum-norm forces that carry its weight with no moment about the
+// centre of gravity [N], zero on lifted feet. With more than three feet
+// the real split depends on the legs' compliance; this is the simulator's
+// stand-in for it. Negative loads (centre of gravity outside the support)
+// are clipped to zero.
+std::array<double, gait::kLegCount> footLoads(const gait::Stance& stance,
+                                              const gait::RoverModel& model);
 
 // Drops the feet of `stance` onto the terrain (sole z = ground under the
 // disk) and sets the link plane to the nominal height above them.

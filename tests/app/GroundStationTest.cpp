@@ -256,6 +256,7 @@ class GroundStationTest : public QObject {
     QCOMPARE(w.exportPlots(out.path()), QString());
     QVERIFY(QImage(QDir(out.path()).filePath("module-timing.png")).width() > 100);
     QVERIFY(QImage(QDir(out.path()).filePath("foot-heights.png")).width() > 100);
+    QVERIFY(QImage(QDir(out.path()).filePath("foot-loads.png")).width() > 100);
     const QString csv = QDir(out.path()).filePath("commands.csv");
     QCOMPARE(w.exportTable(csv), QString());
     QFile file(csv);
@@ -294,6 +295,12 @@ class GroundStationTest : public QObject {
     QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 30000);
     QTest::qWait(600);  // a telemetry refresh
     save(w.telemetry(), "telemetry.png");
+    // The force sensors' loads, as the table shows them, carry the weight.
+    double load_kn = 0;
+    for (int leg = 0; leg < ambler::gait::kLegCount; ++leg)
+      load_kn += w.telemetry()->legTable()->item(leg, 2)->text().toDouble();
+    QVERIFY2(std::abs(load_kn - options({}).walk.gait.model.mass_kg * 9.81e-3) < 0.05,
+             qPrintable(QString::number(load_kn)));
     save(w.commandLog(), "events.png");
     QSignalSpy ready(&c.station, &GroundStation::replayReady);
     c.station.openLog(QString::fromStdString(c.session().logPath().string()));

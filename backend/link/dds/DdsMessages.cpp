@@ -129,8 +129,8 @@ class TelemetryWriter {
     write(heartbeat_.get(), &s);
   }
   void operator()(const Telemetry& t, const LegState& m) const {
-    const ambler_dds_LegState s{t.rover_id, std::uint8_t(m.leg), t.time_s, toDds(m.joints),
-                                m.contact};
+    const ambler_dds_LegState s{t.rover_id,      std::uint8_t(m.leg), t.time_s,
+                                toDds(m.joints), m.contact,           m.force_n};
     write(leg_.get(), &s);
   }
   void operator()(const Telemetry& t, const BodyState& m) const {
@@ -181,7 +181,7 @@ Telemetry from(const ambler_dds_Heartbeat& s) {
           Heartbeat{s.count, s.holding, s.hold_reason ? s.hold_reason : std::string()}};
 }
 Telemetry from(const ambler_dds_LegState& s) {
-  return {s.rover_id, s.time_s, LegState{s.leg, fromDds(s.joints), s.contact}};
+  return {s.rover_id, s.time_s, LegState{s.leg, fromDds(s.joints), s.contact, s.force_n}};
 }
 Telemetry from(const ambler_dds_BodyState& s) {
   return {s.rover_id, s.time_s, BodyState{s.x_m, s.y_m, s.z_m, s.heading_rad, s.moving}};

@@ -60,12 +60,17 @@ TEST(Codec, TelemetryWithARangeImageSurvivesTheRoundTrip) {
   EXPECT_EQ(typeName(u.body), "RangeImage");
 }
 
-TEST(Codec, HoldsAndHeartbeatsBothWaysSurviveTheRoundTrip) {
+TEST(Codec, HoldsHeartbeatsAndLegStatesSurviveTheRoundTrip) {
   const Telemetry t{1, 5.0, Heartbeat{9, true, "Hold from alice"}};
   const auto h = std::get<Heartbeat>(decodeTelemetry(encode(t)).body);
   EXPECT_EQ(h.count, 9u);
   EXPECT_TRUE(h.holding);
   EXPECT_EQ(h.hold_reason, "Hold from alice");
+  const auto leg = std::get<LegState>(
+      decodeTelemetry(encode(Telemetry{1, 5.0, LegState{4, {0.1, 2.0, 1.9}, true, 5230.5}})).body);
+  EXPECT_EQ(leg.leg, 4);
+  EXPECT_TRUE(leg.contact);
+  EXPECT_EQ(leg.force_n, 5230.5);
   for (const CommandBody& body : std::vector<CommandBody>{GroundHeartbeat{}, Resume{}, Hold{}}) {
     Command c = legMove();
     c.body = body;

@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "rover/RoverLoop.h"
@@ -93,6 +94,13 @@ TEST(DdsLink, CommandsAndTelemetryCrossTheDomainInOrder) {
   auto all = collect(link, [](const auto& a) { return !only<BodyState>(a).empty(); });
   ASSERT_FALSE(only<BodyState>(all).empty());
   const double start_y = only<BodyState>(all).back().y_m;
+  // The feet carry the rover's weight (force sensors, simulated statics).
+  double load_n = 0;
+  std::map<int, double> last_load;
+  for (const auto& leg : only<LegState>(all)) last_load[leg.leg] = leg.force_n;
+  for (const auto& [leg, force] : last_load) load_n += force;
+  EXPECT_EQ(last_load.size(), std::size_t(gait::kLegCount));
+  EXPECT_NEAR(load_n, config().gait.model.mass_kg * 9.81, 1.0);
 
   CommandSigner signer(alice());
   link.send(signedCommand(BodyMove{0.0, 0.2, 0.0, 0.0}, signer));

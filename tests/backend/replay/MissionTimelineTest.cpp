@@ -133,9 +133,13 @@ TEST_F(MissionTimelineTest, ScrubbingGivesTheMapAndTheRoverOfThatTime) {
   ASSERT_TRUE(start);
   EXPECT_GT(end->body.xy.y() - start->body.xy.y(), 0.2);  // two steps forward (+y)
   EXPECT_FALSE(timeline.roverAt(timeline.firstS() - 1).body);
-  const auto history = timeline.stances(config().gait.model);
+  const auto history = timeline.samples(config().gait.model);
   ASSERT_FALSE(history.empty());
-  EXPECT_NEAR((history.back().second.body.xy - final_.body.xy).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((history.back().stance.body.xy - final_.body.xy).norm(), 0.0, 1e-9);
+  // The force sensors' loads come back from the log: the feet carry the weight.
+  double load_n = 0;
+  for (double f : history.back().force_n) load_n += f;
+  EXPECT_NEAR(load_n, config().gait.model.mass_kg * 9.81, 1.0);
 }
 
 TEST_F(MissionTimelineTest, TheTableAnswersEachCommandAndShowsEachDecision) {

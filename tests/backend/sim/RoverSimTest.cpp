@@ -145,5 +145,42 @@ TEST(RoverSim, NoiseConfigurationIsChecked) {
   std::filesystem::remove(path);
 }
 
+// Static balance: the loads carry the weight with no moment about the
+// centre of gravity; three feet around it share it as a lever would.
+TEST(RoverSim, FootLoadsCarryTheWeightWithNoMoment) {
+  const gait::RoverModel m;
+  const BlockGround flat;
+  gait::Stance s = start(flat, m);
+  const double weight = m.mass_kg * 9.81;
+  auto check = [&](const gait::Stance& stance) {
+    const auto f = footLoads(stance, m);
+    const Eigen::Vector2d cog = stance.centreOfGravity(m);
+    double sum = 0;
+    Eigen::Vector2d moment(0, 0);
+    for (int i = 0; i < gait::kLegCount; ++i) {
+      if (!stance.supporting[std::size_t(i)]) EXPECT_EQ(f[std::size_t(i)], 0.0) << i;
+      sum += f[std::size_t(i)];
+      moment += f[std::size_t(i)] * (stance.feet[std::size_t(i)].head<2>() - cog);
+    }
+    EXPECT_NEAR(sum, weight, 1e-6 * weight);
+    EXPECT_NEAR(moment.norm(), 0.0, 1e-6 * weight);
+    return f;
+  };
+  check(s);
+  // Three feet: the unique split, by the centre of gravity's barycentric
+  // coordinates in their triangle.
+  const Eigen::Vector2d cog = s.centreOfGravity(m);
+  s.feet[0].head<2>() = cog + Eigen::Vector2d(2.0, 0.0);
+  s.feet[1].head<2>() = cog + Eigen::Vector2d(-1.0, 1.5);
+  s.feet[2].head<2>() = cog + Eigen::Vector2d(-1.0, -1.5);
+  for (int i = 3; i < gait::kLegCount; ++i) s.supporting[std::size_t(i)] = false;
+  const auto f = check(s);
+  EXPECT_NEAR(f[0], weight / 3, 1e-6 * weight);
+  EXPECT_NEAR(f[1], weight / 3, 1e-6 * weight);
+  // Both reach the link: what the simulated rover reports.
+  RoverSim rover(flat, m, noNoise(), start(flat, m));
+  EXPECT_NEAR(rover.legStates()[2].force_n, footLoads(rover.truth(), m)[2], 1e-9);
+}
+
 }  // namespace
 }  // namespace ambler::sim
