@@ -11,6 +11,7 @@
 #include <vtkSphereSource.h>
 #include <vtkTextProperty.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "rendering/ColorMap.h"
@@ -73,6 +74,21 @@ vtkSmartPointer<vtkActor> makeHeightSurface(const GridSpec& grid, const io::Floa
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   return actor;
+}
+
+std::pair<GridSpec, io::FloatImage> thinned(const GridSpec& grid, const io::FloatImage& z,
+                                            int max_cells) {
+  const int k =
+      std::max(1, int(std::ceil(std::sqrt(double(grid.cellCount()) / std::max(max_cells, 1)))));
+  GridSpec out = grid;
+  out.resolution = grid.resolution * k;
+  out.origin_x = grid.origin_x + 0.5 * grid.resolution - 0.5 * out.resolution;
+  out.origin_y = grid.origin_y + 0.5 * grid.resolution - 0.5 * out.resolution;
+  out.rows = (grid.rows + k - 1) / k, out.cols = (grid.cols + k - 1) / k;
+  io::FloatImage thin(out.rows, out.cols);
+  for (int r = 0; r < out.rows; ++r)
+    for (int c = 0; c < out.cols; ++c) thin(r, c) = z(r * k, c * k);
+  return {out, std::move(thin)};
 }
 
 vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& pts,

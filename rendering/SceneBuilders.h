@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/GridSpec.h"
@@ -21,6 +22,12 @@ vtkSmartPointer<vtkLookupTable> makeViridisTable(double lo, double hi);
 // coloured by z through `table`. Quads touching a NaN height are left out.
 vtkSmartPointer<vtkActor> makeHeightSurface(const GridSpec& grid, const io::FloatImage& z,
                                             vtkLookupTable* table);
+
+// The grid thinned to at most `max_cells` cells by keeping every k-th row
+// and column, their centres where they were: a stand-in for the surface
+// while the camera moves.
+std::pair<GridSpec, io::FloatImage> thinned(const GridSpec& grid, const io::FloatImage& z,
+                                            int max_cells);
 
 // Points drawn as screen-space dots of one colour (RGB in [0, 1]).
 vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& points,

@@ -4,6 +4,7 @@
 #include <vtkCommand.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkOpenGLFramebufferObject.h>
+#include <vtkProp.h>
 
 #include <QEvent>
 #include <QMouseEvent>
@@ -29,6 +30,14 @@ VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent) {
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   interactor_->SetInteractorStyle(style);
   interactor_->Initialize();
+  auto* moving = vtkCallbackCommand::New();
+  moving->SetClientData(this);
+  moving->SetCallback([](vtkObject*, unsigned long id, void* self, void*) {
+    static_cast<VtkView*>(self)->setCameraMoving(id == vtkCommand::StartInteractionEvent);
+  });
+  style->AddObserver(vtkCommand::StartInteractionEvent, moving);
+  style->AddObserver(vtkCommand::EndInteractionEvent, moving);
+  moving->Delete();
 
   auto* callback = vtkCallbackCommand::New();
   callback->SetClientData(this);
@@ -58,6 +67,29 @@ vtkGenericOpenGLRenderWindow* VtkView::renderWindow() const { return window_.Get
 void VtkView::render() {
   render_pending_ = true;
   update();
+}
+
+void VtkView::addWithStandIn(vtkProp* detailed, vtkProp* stand_in) {
+  renderer_->AddViewProp(detailed);
+  renderer_->AddViewProp(stand_in);
+  detailed->SetVisibility(!camera_moving_);
+  stand_in->SetVisibility(camera_moving_);
+  detail_.emplace_back(detailed, stand_in);
+}
+
+void VtkView::clear() {
+  renderer_->RemoveAllViewProps();
+  detail_.clear();
+}
+
+void VtkView::setCameraMoving(bool moving) {
+  if (moving == camera_moving_) return;
+  camera_moving_ = moving;
+  for (auto& [detailed, stand_in] : detail_) {
+    detailed->SetVisibility(!moving);
+    stand_in->SetVisibility(moving);
+  }
+  if (!moving) render();  // the full detail once the camera rests
 }
 
 QSurfaceFormat VtkView::defaultFormat() {

@@ -8,6 +8,10 @@
 #include <QOpenGLWidget>
 #include <QSurface>
 #include <QSurfaceFormat>
+#include <utility>
+#include <vector>
+
+class vtkProp;
 
 namespace ambler::rendering {
 
@@ -28,6 +32,15 @@ class VtkView : public QOpenGLWidget {
   // Schedules a VTK render of the scene (after changing actors or camera).
   void render();
 
+  // Level of detail: `detailed` is drawn while the camera is still and
+  // `stand_in` (the same thing decimated) while the mouse moves it, so the
+  // view keeps up on software OpenGL (llvmpipe: ~2 fps at 1 M triangles).
+  // Both join the renderer.
+  void addWithStandIn(vtkProp* detailed, vtkProp* stand_in);
+  // Removes every prop, stand-ins included.
+  void clear();
+  bool cameraMoving() const { return camera_moving_; }
+
   // The surface format VTK needs; set it as the application default before
   // constructing QApplication.
   static QSurfaceFormat defaultFormat();
@@ -44,6 +57,7 @@ class VtkView : public QOpenGLWidget {
 
  private:
   void onRenderWindowEvent(vtkObject* caller, unsigned long event_id, void* call_data);
+  void setCameraMoving(bool moving);
   void releaseGraphics();
   bool forwardToInteractor(QEvent* e);
 
@@ -55,6 +69,8 @@ class VtkView : public QOpenGLWidget {
   bool render_pending_ = true;
   bool in_paint_ = false;
   int wheel_accumulator_ = 0;
+  std::vector<std::pair<vtkProp*, vtkProp*>> detail_;  // owned by the renderer
+  bool camera_moving_ = false;
 };
 
 }  // namespace ambler::rendering

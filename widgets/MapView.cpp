@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gait/LegRecovery.h"
 #include "gait/Support.h"
 #include "rendering/ColorMap.h"
 
@@ -26,16 +27,39 @@ QColor toQColor(const std::array<std::uint8_t, 3>& c) { return QColor(c[0], c[1]
 const QColor kUnknownColor = toQColor(rendering::kNoDataColor);
 const QColor kShadowColor(120, 40, 140);
 const QColor kKnownColor(200, 200, 200);
+const QColor kCannotStandColor(150, 30, 30);
 
 QString layerUnit(MapView::Shown shown) {
-  return shown == MapView::Shown::kElevation ? QObject::tr("Elevation [m]")
-                                             : QObject::tr("Sigma [m]");
+  switch (shown) {
+    case MapView::Shown::kSigma:
+      return QObject::tr("Sigma [m]");
+    case MapView::Shown::kCriterion:
+      return QObject::tr("Roughness cost [0–1]");
+    case MapView::Shown::kComposite:
+      return QObject::tr("Composite cost [–]");
+    default:
+      return QObject::tr("Elevation [m]");
+  }
+}
+
+bool isCostLayer(MapView::Shown shown) {
+  return shown == MapView::Shown::kCriterion || shown == MapView::Shown::kComposite;
+}
+
+// Finite values' range, or none.
+std::optional<std::pair<double, double>> rangeOf(const std::vector<float>& values) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (float v : values)
+    if (std::isfinite(v)) lo = std::min(lo, double(v)), hi = std::max(hi, double(v));
+  if (!(hi >= lo)) return std::nullopt;
+  return std::pair{lo, hi};
 }
 
 }  // namespace
 
 MapView::MapView(QWidget* parent) : QWidget(parent), layer_box_(new QComboBox(this)) {
-  layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"), tr("Known / unknown / shadow")});
+  layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"), tr("Known / unknown / shadow"),
+                        tr("Footfall criterion (roughness)"), tr("Composite cost")});
   layer_box_->move(kMargin, kMargin);
   layer_box_->setToolTip(tr("Map layer shown"));
   connect(layer_box_, &QComboBox::currentIndexChanged, this, [this](int i) { setShown(Shown(i)); });
@@ -96,8 +120,28 @@ std::optional<Eigen::Vector2d> MapView::worldPointAt(const QPointF& p) const {
                          b.y_min + (r.bottom() - p.y()) / r.height() * (b.y_max - b.y_min));
 }
 
+const footfall::ScoreMap* MapView::costShown() const {
+  if (!proposal_ || !proposal_->plan.leg_costs) return nullptr;
+  if (shown_ == Shown::kCriterion) return &proposal_->plan.leg_costs->roughness;
+  if (shown_ == Shown::kComposite) return &proposal_->plan.leg_costs->composite;
+  return nullptr;
+}
+
+// A cell's colour before any cost is laid over it: its state, or its
+// value on the shown range; under a cost layer, the elevation in grey.
+QColor MapView::baseColor(int r, int c, const terrain::Layer& values) const {
+  const auto state = map_->state(r, c);
+  if (state == terrain::CellState::kShadow) return kShadowColor;
+  if (state != terrain::CellState::kKnown) return kUnknownColor;
+  if (shown_ == Shown::kState) return kKnownColor;
+  const double t = (values(r, c) - base_lo_) / (base_hi_ - base_lo_);
+  if (isCostLayer(shown_)) return QColor::fromHslF(0.0, 0.0, 0.35 + 0.45 * std::clamp(t, 0.0, 1.0));
+  return toQColor(rendering::viridis(t));
+}
+
 // One image pixel per map cell over the view box, coloured by the layer
-// on its range over the view (elevation) or from zero (sigma).
+// on its range over the view (elevation, composite cost) or from zero
+// (sigma, the criterion's normalised cost).
 void MapView::recolor() {
   colored_ = QImage();
   if (!map_) return update();
@@ -107,35 +151,38 @@ void MapView::recolor() {
   const int rows = int(std::lround((b.y_max - b.y_min) / g.resolution));
   const auto& values =
       map_->layer(shown_ == Shown::kSigma ? terrain::layer::kSigma : terrain::layer::kElevation);
-  auto cellAt = [&](int r, int c) -> std::optional<std::pair<int, int>> {
-    const auto cell =
-        g.cellAt(b.x_min + (c + 0.5) * g.resolution, b.y_max - (r + 0.5) * g.resolution);
-    if (!cell) return std::nullopt;
-    return std::pair{cell->row, cell->col};
+  auto worldAt = [&](int r, int c) {
+    return Eigen::Vector2d(b.x_min + (c + 0.5) * g.resolution, b.y_max - (r + 0.5) * g.resolution);
   };
-  lo_ = INFINITY, hi_ = -INFINITY;
+  std::vector<float> seen;
   for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c)
-      if (const auto cell = cellAt(r, c); cell && map_->isKnown(cell->first, cell->second)) {
-        const float v = values(cell->first, cell->second);
-        lo_ = std::min(lo_, double(v)), hi_ = std::max(hi_, double(v));
-      }
-  if (shown_ == Shown::kSigma) lo_ = 0.0;
-  if (!(hi_ > lo_)) hi_ = lo_ + 1e-3;
+    for (int c = 0; c < cols; ++c) {
+      const Eigen::Vector2d w = worldAt(r, c);
+      if (const auto cell = g.cellAt(w.x(), w.y()); cell && map_->isKnown(cell->row, cell->col))
+        seen.push_back(values(cell->row, cell->col));
+    }
+  const auto base = rangeOf(seen).value_or(std::pair{0.0, 1.0});
+  base_lo_ = shown_ == Shown::kSigma ? 0.0 : base.first;
+  base_hi_ = std::max(base.second, base_lo_ + 1e-3);
+  lo_ = base_lo_, hi_ = base_hi_;
+  const footfall::ScoreMap* cost = costShown();
+  if (cost) {
+    const auto& s = cost->score;
+    const auto range = rangeOf(std::vector<float>(s.data(), s.data() + s.size()));
+    lo_ = shown_ == Shown::kCriterion ? 0.0 : range.value_or(std::pair{0.0, 1.0}).first;
+    hi_ = shown_ == Shown::kCriterion ? 1.0 : range.value_or(std::pair{0.0, 1.0}).second;
+    hi_ = std::max(hi_, lo_ + 1e-3);
+  }
   colored_ = QImage(cols, rows, QImage::Format_RGB32);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      const auto cell = cellAt(r, c);
-      QColor color = kUnknownColor;
-      if (cell) {
-        const auto state = map_->state(cell->first, cell->second);
-        if (state == terrain::CellState::kShadow)
-          color = kShadowColor;
-        else if (state == terrain::CellState::kKnown)
-          color = shown_ == Shown::kState
-                      ? kKnownColor
-                      : toQColor(rendering::viridis((values(cell->first, cell->second) - lo_) /
-                                                    (hi_ - lo_)));
+      const Eigen::Vector2d w = worldAt(r, c);
+      const auto cell = g.cellAt(w.x(), w.y());
+      QColor color = cell ? baseColor(cell->row, cell->col, values) : kUnknownColor;
+      if (const auto in = cost ? cost->grid.cellAt(w.x(), w.y()) : std::nullopt) {
+        const float v = cost->score(in->row, in->col);
+        color = std::isfinite(v) ? toQColor(rendering::viridis((v - lo_) / (hi_ - lo_)))
+                                 : kCannotStandColor;
       }
       colored_.setPixelColor(c, r, color);
     }
@@ -154,6 +201,13 @@ void MapView::paintEvent(QPaintEvent*) {
   p.drawRect(mapRect());
   drawProposal(p);
   drawColorBar(p);
+  if (isCostLayer(shown_) && !costShown()) {
+    p.setPen(Qt::white);
+    p.drawText(mapRect().adjusted(0, 8, 0, 0), Qt::AlignHCenter | Qt::AlignTop,
+               proposal_ ? tr("This step moves the body only: no foothold cost map")
+                         : tr("No step proposed: no cost map to show"));
+    p.setPen(palette().windowText().color());
+  }
   const Box2 b = viewBox();
   p.drawText(
       QRectF(kMargin, height() - kMargin - kReadoutHeight, width() - 2 * kMargin, kReadoutHeight),
@@ -166,11 +220,11 @@ void MapView::paintEvent(QPaintEvent*) {
 
 void MapView::drawColorBar(QPainter& p) const {
   const QRectF m = mapRect();
-  const QRectF bar(m.right() + 14, m.top() + 24, kBarWidth, m.height() * 0.6);
+  const QRectF bar(m.right() + 14, m.top() + 38, kBarWidth, m.height() * 0.6);
   if (shown_ == Shown::kState) {
     const std::pair<QColor, QString> keys[] = {
         {kKnownColor, tr("known")}, {kUnknownColor, tr("unknown")}, {kShadowColor, tr("shadow")}};
-    double y = m.top() + 24;
+    double y = m.top() + 38;
     for (const auto& [color, name] : keys) {
       p.fillRect(QRectF(bar.left(), y, kBarWidth, 12), color);
       p.drawText(QPointF(bar.left() + kBarWidth + 4, y + 11), name);
@@ -184,7 +238,8 @@ void MapView::drawColorBar(QPainter& p) const {
   }
   p.setPen(palette().windowText().color());
   p.drawRect(bar);
-  p.drawText(QPointF(bar.left() - 4, m.top() + 12), layerUnit(shown_));
+  p.drawText(QRectF(m.right() + 6, m.top(), width() - m.right() - 8, 34),
+             Qt::AlignLeft | Qt::AlignTop | Qt::TextWordWrap, layerUnit(shown_));
   for (int i = 0; i <= 4; ++i) {
     const double value = hi_ - i * (hi_ - lo_) / 4;
     const double y = bar.top() + i * bar.height() / 4;
@@ -196,6 +251,9 @@ void MapView::drawColorBar(QPainter& p) const {
   p.drawText(QPointF(none.right() + 4, none.bottom()), tr("unknown"));
   p.fillRect(none.translated(0, 16), kShadowColor);
   p.drawText(QPointF(none.right() + 4, none.bottom() + 16), tr("shadow"));
+  if (!isCostLayer(shown_)) return;
+  p.fillRect(none.translated(0, 32), kCannotStandColor);
+  p.drawText(QPointF(none.right() + 4, none.bottom() + 32), tr("cannot stand"));
 }
 
 // The proposed step's starting stance with its foothold (a red ring;
@@ -206,12 +264,42 @@ void MapView::drawProposal(QPainter& p) const {
     return;
   }
   drawStance(p, proposal_->from);
+  drawPaths(p);
   if (proposal_->plan.leg < 0) return;
   p.save();
   p.setRenderHint(QPainter::Antialiasing);
   const QPointF foot = widgetPointOf(proposal_->plan.foothold.head<2>());
   p.setPen(QPen(proposal_->interlocks.passed() ? QColor(255, 60, 60) : QColor(255, 160, 0), 3));
   p.drawEllipse(foot, 7, 7);
+  p.restore();
+}
+
+// The body's path (white, dashed, to an arrowhead) and the recovering
+// foot's (red), as planned.
+void MapView::drawPaths(QPainter& p) const {
+  const auto& plan = proposal_->plan;
+  p.save();
+  p.setRenderHint(QPainter::Antialiasing);
+  if (plan.body_path.size() >= 2) {
+    QPolygonF body;
+    for (const auto& pose : plan.body_path) body << widgetPointOf(pose.xy);
+    p.setPen(QPen(Qt::white, 2, Qt::DashLine));
+    p.drawPolyline(body);
+    const QPointF tip = body.back(), from = body[body.size() - 2];
+    const double angle = std::atan2(tip.y() - from.y(), tip.x() - from.x());
+    p.setPen(QPen(Qt::white, 2));
+    for (double side : {-1.0, 1.0})
+      p.drawLine(tip,
+                 tip - 9 * QPointF(std::cos(angle + side * 0.5), std::sin(angle + side * 0.5)));
+  }
+  if (plan.leg >= 0 && plan.recovery.found) {
+    QPolygonF foot;
+    for (const auto& q :
+         gait::footPath(model_, proposal_->from, plan.leg, plan.recovery, plan.foothold))
+      foot << widgetPointOf(q.head<2>());
+    p.setPen(QPen(QColor(255, 90, 90), 2));
+    p.drawPolyline(foot);
+  }
   p.restore();
 }
 
@@ -251,6 +339,14 @@ void MapView::mouseMoveEvent(QMouseEvent* e) {
     text = tr("x %1, y %2 m").arg(w->x(), 0, 'f', 2).arg(w->y(), 0, 'f', 2);
     if (const auto cell = map_->grid().cellAt(w->x(), w->y())) {
       const int r = cell->row, c = cell->col;
+      if (const auto* cost = costShown())
+        if (const auto in = cost->grid.cellAt(w->x(), w->y())) {
+          const float v = cost->score(in->row, in->col);
+          text +=
+              std::isfinite(v)
+                  ? tr(" | %1 cost %2").arg(QString::fromStdString(cost->name)).arg(v, 0, 'f', 3)
+                  : tr(" | the foot cannot stand here");
+        }
       switch (map_->state(r, c)) {
         case terrain::CellState::kKnown:
           text += tr(" | elevation %1 m, sigma %2 m")

@@ -12,16 +12,17 @@ class QComboBox;
 namespace ambler::widgets {
 
 // The local terrain map seen from above (issue 7): one layer at a time
-// (elevation, sigma, known / unknown / shadow) with its colour bar and
-// units, around the rover; on top, the rover's feet and conservative
-// support polygon (of the step waiting for a decision, else as reported)
-// and the proposed foothold.
+// (elevation, sigma, known / unknown / shadow, and the proposed leg's
+// footfall criterion and composite cost over its search region) with its
+// colour bar and units, around the rover; on top, the rover's feet and
+// conservative support polygon (of the step waiting for a decision, else as
+// reported), the proposed foothold, the leg's path to it and the body's.
 // Hovering reads out the cell; a click asks to move the foothold there.
 class MapView : public QWidget {
   Q_OBJECT
 
  public:
-  enum class Shown { kElevation, kSigma, kState };
+  enum class Shown { kElevation, kSigma, kState, kCriterion, kComposite };
 
   explicit MapView(QWidget* parent = nullptr);
 
@@ -31,6 +32,7 @@ class MapView : public QWidget {
   // proposed: a walk between steps, or a replay.
   void setStance(const std::optional<gait::Stance>& stance);
   void setShown(Shown layer);
+  void setModel(const gait::RoverModel& model) { model_ = model; }
   Shown shown() const { return shown_; }
   const std::optional<terrain::ElevationMap>& map() const { return map_; }
   QSize sizeHint() const override { return {520, 520}; }
@@ -56,13 +58,19 @@ class MapView : public QWidget {
   void drawColorBar(class QPainter& p) const;
   void drawProposal(class QPainter& p) const;
   void drawStance(class QPainter& p, const gait::Stance& stance) const;
+  void drawPaths(class QPainter& p) const;
+  // The proposal's cost map shown, if a cost layer is chosen and there is one.
+  const footfall::ScoreMap* costShown() const;
+  QColor baseColor(int row, int col, const terrain::Layer& values) const;
 
   std::optional<terrain::ElevationMap> map_;
   std::optional<executive::StepProposal> proposal_;
   std::optional<gait::Stance> stance_;
   Shown shown_ = Shown::kElevation;
-  QImage colored_;  // the view box, one pixel per cell
-  double lo_ = 0.0, hi_ = 1.0;
+  gait::RoverModel model_;
+  QImage colored_;                        // the view box, one pixel per cell
+  double lo_ = 0.0, hi_ = 1.0;            // the colour bar's range
+  double base_lo_ = 0.0, base_hi_ = 1.0;  // the map layer's, under any cost
   QComboBox* layer_box_;
   QString readout_;
 };

@@ -1,12 +1,15 @@
 #include "widgets/TerrainView.h"
 
 #include <vtkCamera.h>
+#include <vtkProperty.h>
 
 #include <QCheckBox>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
 
+#include "gait/LegRecovery.h"
+#include "gait/Support.h"
 #include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
 
@@ -57,14 +60,14 @@ void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait
                            const std::optional<executive::StepProposal>& proposal) {
   stance_ = proposal ? std::optional(proposal->from) : stance;
   model_ = model;
-  foothold_.reset();
-  if (proposal && proposal->plan.leg >= 0) foothold_ = proposal->plan.foothold;
+  proposal_ = proposal;
   rebuild();
 }
 
 // The body as its keep-out box at the link plane, each leg as its shaft,
 // horizontal link and vertical link down to the foot; supporting feet
-// white, lifted ones orange; the foothold a red ball.
+// white, lifted ones orange; the conservative support polygon in cyan just
+// above the feet.
 void TerrainView::addRover(vtkRenderer* renderer) const {
   if (!stance_) return;
   const auto& body = stance_->body;
@@ -89,13 +92,44 @@ void TerrainView::addRover(vtkRenderer* renderer) const {
   }
   renderer->AddActor(rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
   renderer->AddActor(rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
-  if (foothold_) renderer->AddActor(rendering::makeSphere(*foothold_, 0.2, {1.0, 0.2, 0.2}));
+  std::vector<Eigen::Vector2d> supporting;
+  double z_sum = 0.0;
+  for (int leg = 0; leg < gait::kLegCount; ++leg)
+    if (stance_->supporting[std::size_t(leg)]) {
+      supporting.push_back(stance_->feet[std::size_t(leg)].head<2>());
+      z_sum += stance_->feet[std::size_t(leg)].z();
+    }
+  const double z = supporting.empty() ? 0.0 : z_sum / double(supporting.size());
+  std::vector<Eigen::Vector3d> csp;
+  for (const auto& v : gait::conservativeSupportPolygon(supporting))
+    csp.push_back({v.x(), v.y(), z + 0.05});
+  if (csp.size() >= 3) {
+    csp.push_back(csp.front());
+    renderer->AddActor(rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
+  }
+}
+
+// The recovering leg's foot trajectory and foothold (red) and the body's
+// path at the link plane (white).
+void TerrainView::addProposal(vtkRenderer* renderer) const {
+  if (!proposal_) return;
+  const auto& plan = proposal_->plan;
+  if (plan.leg >= 0) {
+    renderer->AddActor(rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
+    if (plan.recovery.found)
+      renderer->AddActor(rendering::makePolylines(
+          {gait::footPath(model_, proposal_->from, plan.leg, plan.recovery, plan.foothold)},
+          {1.0, 0.35, 0.35}, 3.0f));
+  }
+  std::vector<Eigen::Vector3d> body;
+  for (const auto& pose : plan.body_path) body.push_back({pose.xy.x(), pose.xy.y(), pose.link_z});
+  renderer->AddActor(rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
 }
 
 void TerrainView::rebuild() {
   if (!display_ && !map_ground_) return;
   auto* renderer = view_->renderer();
-  renderer->RemoveAllViewProps();
+  view_->clear();
 
   const auto& [grid, ground] =
       map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
@@ -103,7 +137,13 @@ void TerrainView::rebuild() {
   for (float v : ground.pixels)
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   auto table = rendering::makeViridisTable(lo, hi);
-  renderer->AddActor(rendering::makeHeightSurface(grid, ground, table));
+  if (grid.cellCount() > kDetailLimit) {
+    const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);
+    view_->addWithStandIn(rendering::makeHeightSurface(grid, ground, table),
+                          rendering::makeHeightSurface(thin_grid, thin, table));
+  } else {
+    renderer->AddActor(rendering::makeHeightSurface(grid, ground, table));
+  }
   renderer->AddActor2D(
       rendering::makeColorBar(table, map_ground_ ? "Map elevation [m]" : "Elevation [m]"));
 
@@ -114,9 +154,21 @@ void TerrainView::rebuild() {
     for (int r = 0; r < scan.rows(); ++r)
       for (int c = 0; c < scan.cols(); ++c)
         if (scan.hasReturn(r, c)) points.push_back(scan.pointInWorld(r, c).cast<float>());
-    renderer->AddActor(rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f));
+    auto cloud = rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f);
+    cloud->GetProperty()->SetOpacity(0.35);  // the surface shows through
+    if (points.size() > std::size_t(kDetailLimit)) {
+      const std::size_t k = (points.size() + kDetailLimit - 1) / kDetailLimit;
+      std::vector<Eigen::Vector3f> few;
+      for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
+      auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
+      stand_in->GetProperty()->SetOpacity(0.35);
+      view_->addWithStandIn(cloud, stand_in);
+    } else {
+      renderer->AddActor(cloud);
+    }
   }
   addRover(renderer);
+  addProposal(renderer);
 
   if (!camera_placed_) {
     if (display_) {

@@ -19,9 +19,11 @@ namespace ambler::widgets {
 // The 3-D view: the ground as a shaded surface coloured by elevation (with
 // a colour bar in metres): the simulated ground of the last scan, or the
 // walk's terrain map once there is one; the scan's points in the world
-// frame; the rover with its legs as it reports them, and the proposed
-// step's foothold. The camera starts behind and above the rover and is
-// kept across updates.
+// frame; the rover with its legs as it reports them, its conservative
+// support polygon, and the proposed step: the leg's trajectory, foothold
+// and the body's path. The camera starts behind and above the rover and is
+// kept across updates. Surfaces and clouds above kDetailLimit elements
+// are drawn thinned while the camera moves.
 class TerrainView : public QWidget {
   Q_OBJECT
 
@@ -34,12 +36,15 @@ class TerrainView : public QWidget {
   // The rover (body, legs by forward kinematics) and the proposal's foothold.
   void setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
                 const std::optional<executive::StepProposal>& proposal);
+
+  static constexpr int kDetailLimit = 20000;  // cells or points drawn while moving
   rendering::VtkView* view() const { return view_; }
   QSize sizeHint() const override { return {640, 480}; }
 
  private:
   void rebuild();
   void addRover(vtkRenderer* renderer) const;
+  void addProposal(vtkRenderer* renderer) const;
   void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
 
   rendering::VtkView* view_;
@@ -48,7 +53,7 @@ class TerrainView : public QWidget {
   std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;
   std::optional<gait::Stance> stance_;
   gait::RoverModel model_;
-  std::optional<Eigen::Vector3d> foothold_;
+  std::optional<executive::StepProposal> proposal_;
   bool camera_placed_ = false;
 };
 

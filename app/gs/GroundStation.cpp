@@ -19,6 +19,7 @@ namespace ambler::gs {
 GroundStation::GroundStation(StationOptions options, QObject* parent)
     : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
   choice_.seed = options_.seed;
+  window_.mapView()->setModel(options_.walk.gait.model);
   wireWindow();
   connect(&open_watcher_, &QFutureWatcher<std::shared_ptr<replay::MissionTimeline>>::finished, this,
           &GroundStation::finishOpening);

@@ -115,6 +115,24 @@ FreeMove bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
   return limit;
 }
 
+footfall::LegContext legContext(const Stance& stance, const Heading& heading, const RoverModel& m,
+                                int leg, const std::optional<footfall::ScannerView>& scanner) {
+  footfall::LegContext lc;
+  lc.shaft = stance.body.toWorld(m.shaftOf(leg));
+  lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(leg)));
+  lc.reference_z = stance.body.link_z - m.link_plane_nominal_m;
+  lc.scanner = scanner;
+  return lc;
+}
+
+// The body's pose every `step` along its move of `u` from `start`.
+std::vector<BodyPose> bodyPath(const Stance& start, const Heading& heading, double u, double step) {
+  std::vector<BodyPose> path{start.body};
+  for (double s = step; s < u + step; s += step)
+    path.push_back(moveBody(start, heading, std::min(s, u)).body);
+  return path;
+}
+
 // Tries the cheapest cells of leg's composite cost map until one keeps
 // every constraint and leaves a body move after which a leg can lift.
 std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& heading,
@@ -126,24 +144,10 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
       stance.body.toWorld(idealFoothold(stance, heading, m, ctx.gait, leg));
   const Eigen::Vector2d d = heading.motionAt(m.shaftOf(leg));
   const Eigen::Vector2d lateral = stance.body.rotation() * Eigen::Vector2d(d.y(), -d.x());
-  const double h = ctx.gait.search_half_m * widen;
-  const Box2 region{ideal.x() - h, ideal.y() - h, ideal.x() + h, ideal.y() + h};
-  const Box2 bounds = map.grid().bounds();
-  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
-      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
-    return std::nullopt;
-  const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
-                     std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
-
-  footfall::LegContext lc;
-  lc.shaft = stance.body.toWorld(m.shaftOf(leg));
-  lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(leg)));
-  lc.reference_z = stance.body.link_z - m.link_plane_nominal_m;
-  lc.scanner = scanner;
-  footfall::CostMapOptions fo = ctx.footfall;
-  fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
-  fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
-  const footfall::CostMaps maps = footfall::buildCostMaps(map, clipped, lc, fo);
+  const auto costs = legCostMaps(stance, heading, map, ctx, scanner, leg, widen);
+  if (!costs) return std::nullopt;
+  const footfall::CostMaps& maps = *costs;
+  const footfall::LegContext lc = legContext(stance, heading, m, leg, scanner);
 
   // Cheapest first; among equals, nearest the pattern's foothold (a foot
   // placed too far ahead would leave the rear leg unable to lift later).
@@ -193,6 +197,7 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     c.keeps_cycle = next.next_can_lift;
     c.global_advance = footfall::bodyAdvance(xy, lc, m.extension_max_m, 10.0);
     c.support_area = area(conservativeSupportPolygon(raised.supportingFeet()));
+    c.search_widen = widen;
     if (c.keeps_cycle) return c;
     if (!fallback) fallback = c;
   }
@@ -200,6 +205,28 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
 }
 
 }  // namespace
+
+std::optional<footfall::CostMaps> legCostMaps(const Stance& stance, const Heading& heading,
+                                              const terrain::ElevationMap& map,
+                                              const GaitContext& ctx,
+                                              const std::optional<footfall::ScannerView>& scanner,
+                                              int leg, double widen) {
+  const RoverModel& m = ctx.model;
+  const Eigen::Vector2d ideal =
+      stance.body.toWorld(idealFoothold(stance, heading, m, ctx.gait, leg));
+  const double h = ctx.gait.search_half_m * widen;
+  const Box2 region{ideal.x() - h, ideal.y() - h, ideal.x() + h, ideal.y() + h};
+  const Box2 bounds = map.grid().bounds();
+  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
+      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
+    return std::nullopt;
+  const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
+                     std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
+  footfall::CostMapOptions fo = ctx.footfall;
+  fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
+  fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
+  return footfall::buildCostMaps(map, clipped, legContext(stance, heading, m, leg, scanner), fo);
+}
 
 void validate(const GaitOptions& g) {
   auto require = [](bool ok, const char* what) {
@@ -348,6 +375,7 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
     plan.leg = c.leg;
     plan.foothold = c.foothold;
     plan.recovery = std::move(r);
+    plan.leg_costs = legCostMaps(stance, heading, map, ctx, scanner, c.leg, c.search_widen);
     placed.feet[std::size_t(c.leg)] = c.foothold;
     plan.min_csp_margin = marginWithout(stance, m, c.leg);
     break;
@@ -360,6 +388,7 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   if (u < ctx.gait.body_step_m && plan.leg < 0) {
     if (auto shifted = shiftToFreeALeg(stance, ctx)) {
       plan.after = *shifted;
+      plan.body_path = {stance.body, shifted->body};
       plan.reason = "body shifted to free a leg";
       plan.min_csp_margin = std::min(checkStance(stance, m, 0.0).csp_margin_m,
                                      checkStance(*shifted, m, 0.0).csp_margin_m);
@@ -372,6 +401,7 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   }
   plan.body_u = std::max(u, 0.0);
   plan.after = moveBody(placed, heading, plan.body_u);
+  plan.body_path = bodyPath(placed, heading, plan.body_u, ctx.gait.body_step_m);
   plan.reason = "body stopped by " + constraintName(stopped);
   const double margin_after = checkStance(plan.after, m, 0.0).csp_margin_m;
   const double margin_placed = checkStance(placed, m, 0.0).csp_margin_m;
@@ -399,6 +429,8 @@ StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
   plan.min_csp_margin =
       std::min(marginWithout(stance, m, leg), checkStance(placed, m, 0.0).csp_margin_m);
   plan.recovery = planLegRecovery(m, stance, leg, plan.foothold, clearanceFrom(map), ctx.recovery);
+  plan.leg_costs = legCostMaps(stance, heading, map, ctx, std::nullopt, leg);
+  plan.body_path = {placed.body};
   if (!plan.recovery.found) {
     plan.reason = "no collision-free leg recovery to that foothold";
     return plan;
@@ -406,6 +438,7 @@ StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
   const FreeMove move = bodyMoveKeepingALegFree(placed, heading, ctx);
   plan.body_u = std::max(move.u, 0.0);
   plan.after = moveBody(placed, heading, plan.body_u);
+  plan.body_path = bodyPath(placed, heading, plan.body_u, ctx.gait.body_step_m);
   plan.min_csp_margin = std::min(plan.min_csp_margin, checkStance(plan.after, m, 0.0).csp_margin_m);
   plan.reason = move.u < 0 ? "no leg could lift after any body move"
                            : "body stopped by " + constraintName(move.stopped_by);
@@ -435,6 +468,7 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
   moved.body_u = body.u;
   moved.after_leg = placed;
   moved.after = moveBody(placed, heading, body.u);
+  moved.body_path = bodyPath(placed, heading, body.u, ctx.gait.body_step_m);
   return moved;
 }
 

@@ -45,6 +45,7 @@ struct LegCandidate {
   double support_area = 0.0;    // of the CSP after placement [m^2]
   bool keeps_cycle = false;     // the leg due next can lift after the body move
   double merit = 0.0;           // normalised product
+  double search_widen = 1.0;    // the search region's scale it was found in
 };
 
 // One step: a leg recovery (unless no leg can be lifted) and a body move.
@@ -59,7 +60,21 @@ struct StepPlan {
   Stance after;               // after the body move
   double min_csp_margin = 0;  // over the recovery and the body move
   std::vector<LegCandidate> candidates;
+  // What the operator sees of the plan: the chosen leg's cost maps (over
+  // the region its foothold was searched in) and the body's path, from
+  // after_leg to after every body_step_m.
+  std::optional<footfall::CostMaps> leg_costs;
+  std::vector<BodyPose> body_path;
 };
+
+// The footfall module's cost maps for `leg` around its ideal
+// circulating-gait foothold, over a search region scaled by `widen`; none
+// when that region is off the map.
+std::optional<footfall::CostMaps> legCostMaps(const Stance& stance, const Heading& heading,
+                                              const terrain::ElevationMap& map,
+                                              const GaitContext& context,
+                                              const std::optional<footfall::ScannerView>& scanner,
+                                              int leg, double widen = 1.0);
 
 // Height field the leg recovery sees: highest z + 2 sigma under the disk,
 // NaN if any cell under it is not known.

@@ -167,4 +167,31 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
   return plan;
 }
 
+std::vector<Eigen::Vector3d> footPath(const RoverModel& model, const Stance& stance, int leg,
+                                      const RecoveryPlan& plan, const Eigen::Vector3d& goal,
+                                      int samples_per_segment) {
+  std::vector<Eigen::Vector3d> path{stance.feet[std::size_t(leg)]};
+  LegJoints from = stance.joints(model, leg);
+  for (std::size_t w = 0; w < plan.waypoints.size(); ++w) {
+    const LegJoints& to = plan.waypoints[w];
+    const bool last = w + 1 == plan.waypoints.size();
+    // The controller turns the short way round (sim/RoverSim.cpp does too).
+    const double turn = std::remainder(to.rotation_rad - from.rotation_rad, 2 * M_PI);
+    for (int k = 1; k <= samples_per_segment; ++k) {
+      const double t = double(k) / samples_per_segment;
+      const LegJoints q{from.rotation_rad + t * turn,
+                        from.extension_m + t * (to.extension_m - from.extension_m),
+                        from.vertical_m + t * (to.vertical_m - from.vertical_m)};
+      const Eigen::Vector3d foot = stance.body.toWorld(model.footInBody(leg, q));
+      if (last && foot.z() <= goal.z()) {  // the contact stop
+        path.push_back(goal);
+        return path;
+      }
+      path.push_back(foot);
+    }
+    from = to;
+  }
+  return path;
+}
+
 }  // namespace ambler::gait

@@ -46,4 +46,11 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
                              const Eigen::Vector3d& goal, const ClearanceField& clearance,
                              const RecoveryOptions& options = {}, double touchdown_overshoot = 0.1);
 
+// Where the sole of `leg` passes in the world as it follows `plan` from
+// `stance` (joints interpolated as the controller moves them, all arriving
+// together), ending where the contact stops it at `goal`'s height.
+std::vector<Eigen::Vector3d> footPath(const RoverModel& model, const Stance& stance, int leg,
+                                      const RecoveryPlan& plan, const Eigen::Vector3d& goal,
+                                      int samples_per_segment = 8);
+
 }  // namespace ambler::gait

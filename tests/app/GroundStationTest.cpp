@@ -84,6 +84,17 @@ int colourCount(const QImage& image) {
   return int(colours.size());
 }
 
+// Saves a grab of `widget` into the build tree's screenshots (docs/images
+// keeps copies); an error when it looks blank or cannot be written.
+QString screenshot(QWidget* widget, const QString& name) {
+  QTest::qWait(300);  // let VTK and the charts paint
+  const QDir dir(AMBLER_SCREENSHOT_DIR);
+  const QImage shot = widget->grab().toImage();
+  if (colourCount(shot) <= 20) return name + " looks blank";
+  if (!dir.mkpath(".") || !shot.save(dir.filePath(name))) return "cannot write " + name;
+  return {};
+}
+
 }  // namespace
 
 class GroundStationTest : public QObject {
@@ -146,6 +157,14 @@ class GroundStationTest : public QObject {
     }
     QVERIFY(c.session().pending()->plan.leg >= 0);
     const Eigen::Vector2d planned = c.session().pending()->plan.foothold.head<2>();
+    // The composite cost the planner chose it from reads out under the mouse,
+    // and the leg's path ends there.
+    c.map.setShown(MapView::Shown::kComposite);
+    QTest::mouseMove(&c.map, c.map.widgetPointOf(planned).toPoint());
+    QTRY_VERIFY2(c.map.readout().contains("composite cost"), qPrintable(c.map.readout()));
+    const QString error = screenshot(&c.map, "terrain-map-composite-cost.png");
+    QVERIFY2(error.isEmpty(), qPrintable(error));
+    c.map.setShown(MapView::Shown::kElevation);
     // Four metres further ahead: out of the leg's reach.
     c.click(planned + Eigen::Vector2d(0, 4));
     QTRY_VERIFY(!c.panel.approveButton()->isEnabled());
@@ -276,13 +295,9 @@ class GroundStationTest : public QObject {
     QSignalSpy scanned(&w, &ambler::widgets::MainWindow::scanShown);
     emit w.scanRequested(1);
     QVERIFY(scanned.wait(30000));
-    const QDir dir(AMBLER_SCREENSHOT_DIR);
-    QVERIFY(dir.mkpath("."));
     auto save = [&](QWidget* widget, const QString& name) {
-      QTest::qWait(300);  // let VTK and the charts paint
-      const QImage shot = widget->grab().toImage();
-      QVERIFY2(colourCount(shot) > 20, qPrintable(name + " looks blank"));
-      QVERIFY(shot.save(dir.filePath(name)));
+      const QString error = screenshot(widget, name);
+      QVERIFY2(error.isEmpty(), qPrintable(error));
     };
     save(w.rangeView(), "range-image.png");
     c.start(1);

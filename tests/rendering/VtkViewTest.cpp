@@ -106,6 +106,40 @@ class VtkViewTest : public QObject {
     QVERIFY(std::abs(camera->GetDistance() - distance0) < 1e-6 * distance0);
     QVERIFY(renderedImage(view) != before);
   }
+
+  // While the mouse drags the camera the thinned stand-in is drawn; the
+  // full surface is back once the button is released.
+  void aStandInIsDrawnWhileTheCameraMoves() {
+    VtkView& view = *view_;
+    view.clear();
+    const ambler::GridSpec grid{-3.0, -3.0, 0.01, 600, 600};
+    ambler::io::FloatImage z(grid.rows, grid.cols);
+    for (int r = 0; r < grid.rows; ++r)
+      for (int c = 0; c < grid.cols; ++c) z(r, c) = float(0.01 * r - 0.02 * c);
+    const auto [thin_grid, thin] = ambler::rendering::thinned(grid, z, 20000);
+    QVERIFY(thin_grid.cellCount() <= 20000);
+    QVERIFY(thin_grid.cellCount() > 10000);
+    // Kept cells sit where they were, with their heights.
+    const double k = thin_grid.resolution / grid.resolution;
+    QCOMPARE(k, 5.0);
+    const auto centre = thin_grid.cellCenter(7, 9);
+    QVERIFY((centre - grid.cellCenter(35, 45)).norm() < 1e-9);
+    QCOMPARE(thin(7, 9), z(35, 45));
+
+    auto table = ambler::rendering::makeViridisTable(-12, 6);
+    auto full = ambler::rendering::makeHeightSurface(grid, z, table);
+    auto stand_in = ambler::rendering::makeHeightSurface(thin_grid, thin, table);
+    view.addWithStandIn(full, stand_in);
+    view.renderer()->ResetCamera();
+    QVERIFY(full->GetVisibility() && !stand_in->GetVisibility());
+    sendMouse(view, QEvent::MouseButtonPress, {200, 150}, Qt::LeftButton);
+    sendMouse(view, QEvent::MouseMove, {230, 150}, Qt::LeftButton);
+    QVERIFY(view.cameraMoving());
+    QVERIFY(!full->GetVisibility() && stand_in->GetVisibility());
+    sendMouse(view, QEvent::MouseButtonRelease, {230, 150}, Qt::NoButton);
+    QVERIFY(!view.cameraMoving());
+    QVERIFY(full->GetVisibility() && !stand_in->GetVisibility());
+  }
 };
 
 int main(int argc, char** argv) {

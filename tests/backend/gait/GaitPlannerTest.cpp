@@ -185,6 +185,34 @@ TEST(GaitPlanner, TurnsInPlace) {
   EXPECT_LT(s.body.xy.norm(), 0.3);    // without walking off
 }
 
+// What the operator is shown of a plan: the chosen leg's cost maps, finite
+// at the foothold, and the body's path along the arc.
+TEST(GaitPlanner, ShowsTheLegsCostMapsAndTheBodysPath) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Heading arc;
+  arc.radius_m = 8.0;
+  const Stance s = moveBody(nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait), arc, 0.3);
+  const StepPlan plan = planStep(s, arc, map, ctx);
+  ASSERT_TRUE(plan.ok) << plan.reason;
+  ASSERT_GE(plan.leg, 0);
+  ASSERT_TRUE(plan.leg_costs);
+  const auto& composite = plan.leg_costs->composite;
+  const auto cell = composite.grid.cellAt(plan.foothold.x(), plan.foothold.y());
+  ASSERT_TRUE(cell);
+  EXPECT_TRUE(std::isfinite(composite.score(cell->row, cell->col)));
+  EXPECT_GT(composite.validCount(), 10);
+  ASSERT_GE(plan.body_path.size(), 2u);
+  EXPECT_NEAR((plan.body_path.front().xy - plan.after_leg.body.xy).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((plan.body_path.back().xy - plan.after.body.xy).norm(), 0.0, 1e-9);
+  for (std::size_t i = 1; i < plan.body_path.size(); ++i) {
+    EXPECT_LE((plan.body_path[i].xy - plan.body_path[i - 1].xy).norm(),
+              ctx.gait.body_step_m + 1e-9);
+    // On the circle of radius 8 m about (-8, 0).
+    EXPECT_NEAR((plan.body_path[i].xy - Eigen::Vector2d(-8, 0)).norm(), 8.0, 1e-6);
+  }
+}
+
 TEST(GaitPlanner, NeedsKnownGround) {
   const GaitContext ctx = context();
   terrain::ElevationMap unknown(GridSpec::covering({-12, -12, 12, 30}, 0.1));
@@ -217,6 +245,14 @@ TEST(LegRecovery, GoesAroundWhatItCannotLiftOver) {
     EXPECT_FALSE(std::abs(foot.y() - 0.75) < 0.1 && foot.x() > 1.8) << foot.transpose();
   }
   EXPECT_GT(tall.time_s, low.time_s);
+  // The path the operator sees: from the foot, over the wall at the planned
+  // lift, down to the goal.
+  const auto path = footPath(ctx.model, s, leg, low, goal);
+  EXPECT_NEAR((path.front() - s.feet[leg]).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((path.back() - goal).norm(), 0.0, 1e-9);
+  double top = -INFINITY;
+  for (const auto& p : path) top = std::max(top, p.z());
+  EXPECT_NEAR(top - s.feet[leg].z(), low.max_lift_m, 0.02);
   // Power against time: making energy dearer never makes the plan use more.
   RecoveryOptions thrifty = ctx.recovery;
   thrifty.power_time_ratio = 20.0;
