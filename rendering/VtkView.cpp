@@ -1,8 +1,12 @@
 #include "rendering/VtkView.h"
 
+#include <vtkActor.h>
+#include <vtkActorCollection.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
+#include <vtkDataSet.h>
 #include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkMapper.h>
 #include <vtkOpenGLFramebufferObject.h>
 #include <vtkProp.h>
 
@@ -80,6 +84,16 @@ void VtkView::addWithStandIn(vtkProp* detailed, vtkProp* stand_in) {
 void VtkView::clear() {
   renderer_->RemoveAllViewProps();
   detail_.clear();
+}
+
+long long VtkView::visibleCells() const {
+  long long cells = 0;
+  auto* actors = renderer_->GetActors();
+  actors->InitTraversal();
+  while (vtkActor* actor = actors->GetNextActor())
+    if (actor->GetVisibility() && actor->GetMapper() && actor->GetMapper()->GetInput())
+      cells += actor->GetMapper()->GetInput()->GetNumberOfCells();
+  return cells;
 }
 
 void VtkView::setCameraMoving(bool moving) {

@@ -40,6 +40,10 @@ class VtkView : public QOpenGLWidget {
   // Removes every prop, stand-ins included.
   void clear();
   bool cameraMoving() const { return camera_moving_; }
+  // What the interactor does on a drag; public for timing both levels.
+  void setCameraMoving(bool moving);
+  // Cells (triangles, points, lines) of the visible actors.
+  long long visibleCells() const;
 
   // The surface format VTK needs; set it as the application default before
   // constructing QApplication.
@@ -57,7 +61,6 @@ class VtkView : public QOpenGLWidget {
 
  private:
   void onRenderWindowEvent(vtkObject* caller, unsigned long event_id, void* call_data);
-  void setCameraMoving(bool moving);
   void releaseGraphics();
   bool forwardToInteractor(QEvent* e);
 

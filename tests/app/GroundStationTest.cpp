@@ -9,6 +9,7 @@
 #include <QChartView>
 #include <QCheckBox>
 #include <QDir>
+#include <QDockWidget>
 #include <QFile>
 #include <QLabel>
 #include <QPushButton>
@@ -316,6 +317,9 @@ class GroundStationTest : public QObject {
       load_kn += w.telemetry()->legTable()->item(leg, 2)->text().toDouble();
     QVERIFY2(std::abs(load_kn - options({}).walk.gait.model.mass_kg * 9.81e-3) < 0.05,
              qPrintable(QString::number(load_kn)));
+    // Its dock shares a tab with the telemetry: bring it to the front.
+    qobject_cast<QDockWidget*>(w.commandLog()->parentWidget())->raise();
+    QTRY_VERIFY(w.commandLog()->isVisible());
     save(w.commandLog(), "events.png");
     QSignalSpy ready(&c.station, &GroundStation::replayReady);
     c.station.openLog(QString::fromStdString(c.session().logPath().string()));
