@@ -10,6 +10,8 @@ find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
 find_package(SQLite3 REQUIRED)
 find_package(CycloneDDS 0.10 REQUIRED)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
+# Image processing for rock sampling (backend/sampling), its two core modules only.
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc)
 
 find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets OpenGL OpenGLWidgets Concurrent Charts Test)
 

@@ -3,7 +3,7 @@
 #include <variant>
 #include <vector>
 
-#include "sim/Superquadric.h"
+#include "core/Superquadric.h"
 #include "sim/Terrain.h"
 
 namespace ambler::sim {

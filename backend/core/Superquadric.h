@@ -3,11 +3,11 @@
 #include <Eigen/Geometry>
 #include <optional>
 
-namespace ambler::sim {
+namespace ambler {
 
 // Solina's superquadric: F = ((x/a1)^(2/e2) + (y/a2)^(2/e2))^(e2/e1) +
 // (z/a3)^(2/e1) in the object frame; F < 1 inside, F = 1 on the surface
-// (cmu-1990 sampling paper, eq. 5). Rocks of the simulator are these.
+// (cmu-1990 sampling paper, eq. 5). The simulator's rocks and the sampling fits are these.
 struct Superquadric {
   Eigen::Vector3d size{1.0, 1.0, 1.0};                     // a1, a2, a3 [m]
   double eps1 = 1.0;                                       // roundness along z
@@ -24,4 +24,4 @@ struct Superquadric {
   double footprintRadius() const { return size.head<2>().norm(); }
 };
 
-}  // namespace ambler::sim
+}  // namespace ambler

@@ -1,8 +1,8 @@
-#include "sim/Superquadric.h"
+#include "core/Superquadric.h"
 
 #include <cmath>
 
-namespace ambler::sim {
+namespace ambler {
 
 namespace {
 
@@ -28,4 +28,4 @@ std::optional<double> Superquadric::topHeight(double x, double y) const {
   return pose.translation().z() + size.z() * std::pow(1.0 - g, eps1 / 2.0);
 }
 
-}  // namespace ambler::sim
+}  // namespace ambler

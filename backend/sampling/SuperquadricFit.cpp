@@ -1,0 +1,216 @@
+#include "sampling/SuperquadricFit.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ambler::sampling {
+
+namespace {
+
+constexpr int kParams = 11;  // a1 a2 a3 eps1 eps2 | t (3) | rotation (3)
+using Row = Eigen::Matrix<double, 1, kParams>;
+using Vector = Eigen::Matrix<double, kParams, 1>;
+using Matrix = Eigen::Matrix<double, kParams, kParams>;
+constexpr double kEpsMin = 0.1, kEpsMax = 2.0, kSizeMin = 1e-3;
+
+// r = sqrt(a1 a2 a3) (F^eps1 - 1) at p, and its gradient (rotation as a
+// small turn applied in the object frame).
+double residual(const Superquadric& s, const Eigen::Vector3d& p, Row* j) {
+  const Eigen::Matrix3d rot = s.pose.linear();
+  const Eigen::Vector3d x = rot.transpose() * (p - s.pose.translation());
+  const double a1 = s.size.x(), a2 = s.size.y(), a3 = s.size.z(), e1 = s.eps1, e2 = s.eps2;
+  constexpr double kTiny = 1e-12;
+  const double ax = std::max(std::abs(x.x()) / a1, kTiny);
+  const double ay = std::max(std::abs(x.y()) / a2, kTiny);
+  const double az = std::max(std::abs(x.z()) / a3, kTiny);
+  const double u = std::pow(ax, 2 / e2), v = std::pow(ay, 2 / e2), w = std::pow(az, 2 / e1);
+  const double sum = u + v, g = std::pow(sum, e2 / e1), f = g + w;
+  const double big_g = std::pow(f, e1), volume = std::sqrt(a1 * a2 * a3);
+  const double r = volume * (big_g - 1);
+  if (!j) return r;
+  const double common = (2 / e1) * g / sum;  // dF/du * du/dx * x / u
+  auto over = [](double value, double by) { return std::abs(by) > kTiny ? value / by : 0.0; };
+  const Eigen::Vector3d df_dx(common * over(u, x.x()), common * over(v, x.y()),
+                              (2 / e1) * over(w, x.z()));
+  const double dg_df = e1 * big_g / f;
+  const double df_da1 = -common * u / a1, df_da2 = -common * v / a2, df_da3 = -(2 / e1) * w / a3;
+  const double du_de2 = u * std::log(ax) * (-2 / (e2 * e2));
+  const double dv_de2 = v * std::log(ay) * (-2 / (e2 * e2));
+  const double df_de2 = g * (std::log(sum) / e1 + (e2 / e1) * (du_de2 + dv_de2) / sum);
+  const double df_de1 = g * std::log(sum) * (-e2 / (e1 * e1)) + w * std::log(az) * (-2 / (e1 * e1));
+  const double dbigg_de1 = big_g * (std::log(f) + e1 * df_de1 / f);
+  (*j)(0) = volume * dg_df * df_da1 + (big_g - 1) * volume / (2 * a1);
+  (*j)(1) = volume * dg_df * df_da2 + (big_g - 1) * volume / (2 * a2);
+  (*j)(2) = volume * dg_df * df_da3 + (big_g - 1) * volume / (2 * a3);
+  (*j)(3) = volume * dbigg_de1;
+  (*j)(4) = volume * dg_df * df_de2;
+  const Eigen::Vector3d dr_dx = volume * dg_df * df_dx;
+  j->segment<3>(5) = -(rot * dr_dx).transpose();
+  // x' = x + x cross d for a small turn d: dx/dd = [x]_x.
+  Eigen::Matrix3d skew;
+  skew << 0, -x.z(), x.y(), x.z(), 0, -x.x(), -x.y(), x.x(), 0;
+  j->segment<3>(8) = dr_dx.transpose() * skew;
+  return r;
+}
+
+Superquadric applyStep(const Superquadric& s, const Vector& d) {
+  Superquadric out = s;
+  for (int i = 0; i < 3; ++i) out.size[i] = std::max(kSizeMin, s.size[i] + d(i));
+  out.eps1 = std::clamp(s.eps1 + d(3), kEpsMin, kEpsMax);
+  out.eps2 = std::clamp(s.eps2 + d(4), kEpsMin, kEpsMax);
+  const Eigen::Vector3d turn = d.segment<3>(8);
+  Eigen::Matrix3d rot = s.pose.linear();
+  if (turn.norm() > 0) rot = rot * Eigen::AngleAxisd(turn.norm(), turn.normalized());
+  out.pose = Eigen::Translation3d(s.pose.translation() + d.segment<3>(5)) * Eigen::Quaterniond(rot);
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// Cauchy weights from the residuals' robust spread; all ones when not robust.
+std::vector<double> weightsFor(const std::vector<double>& r, const FitOptions& o) {
+  std::vector<double> w(r.size(), 1.0);
+  if (!o.robust) return w;
+  std::vector<double> abs_r(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) abs_r[i] = std::abs(r[i]);
+  const double scale = std::max(o.cauchy_scale * 1.4826 * median(abs_r), 1e-12);
+  for (std::size_t i = 0; i < r.size(); ++i) w[i] = 1.0 / (1.0 + std::pow(r[i] / scale, 2));
+  return w;
+}
+
+double weightedCost(const Superquadric& s, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<double>& w) {
+  double cost = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double r = residual(s, points[i], nullptr);
+    cost += w[i] * r * r;
+  }
+  return cost;
+}
+
+}  // namespace
+
+void validate(const FitOptions& o) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("fit option " + what);
+  };
+  require(o.max_iterations >= 1 && o.max_iterations <= 100000,
+          "max_iterations must be in [1, 100000]");
+  require(o.tolerance > 0 && o.tolerance < 1, "tolerance must be in (0, 1)");
+  require(o.cauchy_scale > 0 && o.cauchy_scale <= 100, "cauchy_scale must be in (0, 100]");
+}
+
+std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& points, double keep) {
+  std::vector<Eigen::Vector3d> core = points;
+  for (int round = 0; round < 5; ++round) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : core) mean += p / double(core.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& p : core) cov += (p - mean) * (p - mean).transpose() / double(core.size());
+    const Eigen::Matrix3d inv = (cov + 1e-12 * Eigen::Matrix3d::Identity()).inverse();
+    std::vector<std::pair<double, std::size_t>> d;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      d.push_back({(points[i] - mean).dot(inv * (points[i] - mean)), i});
+    const auto n = std::max<std::size_t>(11, std::size_t(keep * double(points.size())));
+    std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(std::min(n, d.size()) - 1), d.end());
+    core.clear();
+    for (std::size_t k = 0; k < std::min(n, d.size()); ++k) core.push_back(points[d[k].second]);
+  }
+  return core;
+}
+
+Superquadric momentEllipsoid(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= double(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+  cov /= double(points.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  // Object z: the principal axis nearest the vertical (rocks lie on the ground).
+  int z = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(eig.eigenvectors()(2, i)) > std::abs(eig.eigenvectors()(2, z))) z = i;
+  int x = z == 2 ? 1 : 2, y = 3 - x - z;
+  if (eig.eigenvalues()(y) > eig.eigenvalues()(x)) std::swap(x, y);
+  Eigen::Matrix3d rot;
+  rot.col(0) = eig.eigenvectors().col(x);
+  rot.col(2) = eig.eigenvectors().col(z) * (eig.eigenvectors()(2, z) < 0 ? -1.0 : 1.0);
+  rot.col(1) = rot.col(2).cross(rot.col(0));
+  Superquadric s;
+  s.size = {std::sqrt(3 * eig.eigenvalues()(x)), std::sqrt(3 * eig.eigenvalues()(y)),
+            std::sqrt(3 * eig.eigenvalues()(z))};
+  s.size = s.size.cwiseMax(kSizeMin);
+  s.eps1 = s.eps2 = 1.0;
+  s.pose = Eigen::Translation3d(mean) * Eigen::Quaterniond(rot);
+  return s;
+}
+
+SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, const FitOptions& o) {
+  validate(o);
+  if (points.size() < std::size_t(kParams))
+    throw std::invalid_argument("superquadric fit: " + std::to_string(points.size()) +
+                                " points, at least 11 needed");
+  for (const auto& p : points)
+    if (!p.allFinite()) throw std::invalid_argument("superquadric fit: a point is not finite");
+  SuperquadricFit fit;
+  // The robust fit starts from the moments of the points' densest 75 %.
+  fit.shape = momentEllipsoid(o.robust ? trimmedCore(points, 0.75) : points);
+  double lambda = 1e-3;
+  std::vector<double> r(points.size());
+  for (fit.iterations = 0; fit.iterations < o.max_iterations; ++fit.iterations) {
+    Matrix h = Matrix::Zero();
+    Vector g = Vector::Zero();
+    std::vector<Row> jacobian(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      r[i] = residual(fit.shape, points[i], &jacobian[i]);
+    const auto w = weightsFor(r, o);
+    double cost = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      h.noalias() += w[i] * jacobian[i].transpose() * jacobian[i];
+      g.noalias() += w[i] * jacobian[i].transpose() * r[i];
+      cost += w[i] * r[i] * r[i];
+    }
+    bool improved = false;
+    double new_cost = cost;
+    while (!improved && lambda < 1e12) {
+      Matrix damped = h;
+      damped.diagonal() += lambda * h.diagonal().cwiseMax(1e-12);
+      const Vector step = damped.ldlt().solve(-g);
+      const Superquadric candidate = applyStep(fit.shape, step);
+      new_cost = weightedCost(candidate, points, w);
+      if (std::isfinite(new_cost) && new_cost < cost) {
+        fit.shape = candidate;
+        lambda = std::max(lambda / 3, 1e-9);
+        improved = true;
+      } else {
+        lambda *= 4;
+      }
+    }
+    if (!improved || cost - new_cost < o.tolerance * cost) {
+      fit.converged = true;
+      break;
+    }
+  }
+  // Quality over the points that count.
+  for (std::size_t i = 0; i < points.size(); ++i) r[i] = residual(fit.shape, points[i], nullptr);
+  const auto w = weightsFor(r, o);
+  const double volume = std::sqrt(fit.shape.size.prod());
+  double sum = 0;
+  int kept = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (w[i] >= 0.5) sum += std::pow(r[i] / volume, 2), ++kept;
+  fit.rms = kept ? std::sqrt(sum / kept) : 0.0;
+  fit.inlier_share = double(kept) / double(points.size());
+  return fit;
+}
+
+}  // namespace ambler::sampling

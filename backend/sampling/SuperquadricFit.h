@@ -1,0 +1,49 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/Superquadric.h"
+
+namespace ambler::sampling {
+
+// cmu-1990 sampling paper §3.2, after Solina: Levenberg-Marquardt on the
+// residuals sqrt(a1 a2 a3) (F^eps1 - 1) of the points (eq. 6 with Solina's
+// two refinements: F^eps1 makes the error independent of the roundness, and
+// the volume factor prefers the smallest superquadric that fits a partial
+// view), from the ellipsoid of the points' moments. 11 parameters: sizes,
+// roundness (eps1, eps2 in [0.1, 2]), position and orientation (updated on
+// SO(3)). The robust variant re-weights each iteration with Cauchy weights
+// scaled by the residuals' median absolute deviation, so that stray sand
+// points and outliers lose their pull.
+struct FitOptions {
+  bool robust = false;
+  int max_iterations = 200;
+  double tolerance = 1e-8;      // relative decrease of the cost that ends the fit
+  double cauchy_scale = 2.385;  // in robust standard deviations (1.4826 MAD)
+};
+
+// Throws std::invalid_argument naming the first option out of range.
+void validate(const FitOptions& options);
+
+struct SuperquadricFit {
+  Superquadric shape;
+  double rms = 0.0;           // of F^eps1 - 1 over the points of weight >= 0.5 (unitless)
+  double inlier_share = 1.0;  // share of the points of weight >= 0.5
+  int iterations = 0;
+  bool converged = false;
+};
+
+// The starting point: centroid, principal axes (z the one nearest the
+// vertical, x the longer of the others), sizes sqrt(3 lambda), eps = 1.
+Superquadric momentEllipsoid(const std::vector<Eigen::Vector3d>& points);
+
+// The points nearest (Mahalanobis) the mean of the nearest, `keep` of them,
+// after a few rounds: a start that outliers do not drag.
+std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& points, double keep);
+
+// Throws std::invalid_argument for fewer than 11 points or non-finite ones.
+SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points,
+                                const FitOptions& options = {});
+
+}  // namespace ambler::sampling
