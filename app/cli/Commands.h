@@ -17,8 +17,10 @@ void addFootfall(CLI::App& app);
 void addWalk(CLI::App& app);
 void addLog(CLI::App& app);
 void addDrive(CLI::App& app);
-// `eval link`, under the `eval` subcommand.
+void addFitRock(CLI::App& app);
+// `eval link` and `eval rocks`, under the `eval` subcommand.
 void addEvalLink(CLI::App& eval);
+void addEvalRocks(CLI::App& eval);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

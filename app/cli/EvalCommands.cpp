@@ -157,6 +157,7 @@ void addEval(CLI::App& app) {
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
   cmd->callback([args] { runEvalElevation(*args); });
   addEvalLink(*eval);
+  addEvalRocks(*eval);
 }
 
 }  // namespace ambler::cli

@@ -132,10 +132,9 @@ void addSimStriper(CLI::App& app) {
     const auto start = std::chrono::steady_clock::now();
     const sim::ProceduralTerrain terrain(
         sim::makeWorkArea({.seed = args->seed, .rocks = args->rocks}));
-    const sim::RayCaster caster(terrain, {.cell_size = 0.02, .step = 0.001});
     sim::StriperModel model;
     model.noise_sigma = args->noise;
-    const auto scene = sim::simulateStriper(terrain, caster, model, args->seed);
+    const auto scene = sim::simulateStriper(terrain, model, args->seed);
     const std::filesystem::path dir(args->out);
     sensor::writeStriperImage(scene.image, dir);
     io::writeTiff(dir / "truth_labels.tif", scene.labels);

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   ambler::cli::addWalk(app);
   ambler::cli::addLog(app);
   ambler::cli::addDrive(app);
+  ambler::cli::addFitRock(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

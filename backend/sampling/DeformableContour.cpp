@@ -181,13 +181,13 @@ Contour growContour(const FeatureMap& features, const Eigen::Vector2d& seed,
   return contour;
 }
 
-io::ByteImage contourMask(const Contour& contour, int rows, int cols) {
+io::ByteImage contourMask(const Contour& contour, int rows, int cols, bool to_features) {
   cv::Mat mask(rows, cols, CV_8U, cv::Scalar(0));
   std::vector<cv::Point> polygon;
   for (const auto& p : contour.points)
     polygon.emplace_back(int(std::lround(p.x())), int(std::lround(p.y())));
   cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{polygon}, cv::Scalar(255));
-  cv::dilate(mask, mask, cv::Mat::ones(3, 3, CV_8U));  // the pixel up to the features
+  if (to_features) cv::dilate(mask, mask, cv::Mat::ones(3, 3, CV_8U));
   io::ByteImage out(rows, cols);
   std::copy(mask.datastart, mask.dataend, out.pixels.begin());
   return out;

@@ -40,8 +40,10 @@ using ContourObserver = std::function<void(const Contour&)>;
 Contour growContour(const FeatureMap& features, const Eigen::Vector2d& seed,
                     const ContourOptions& options = {}, const ContourObserver& observer = {});
 
-// 255 inside the contour and up to the features it stopped one pixel short
-// of, 0 outside.
-io::ByteImage contourMask(const Contour& contour, int rows, int cols);
+// 255 inside the contour, 0 outside. With `to_features`, also the pixel
+// between the contour and the features it stopped one pixel short of: the
+// object's outline. Without, the interior only: points for a fit, with no
+// sand from the rim.
+io::ByteImage contourMask(const Contour& contour, int rows, int cols, bool to_features = true);
 
 }  // namespace ambler::sampling

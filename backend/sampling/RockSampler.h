@@ -19,7 +19,15 @@ struct SamplingOptions {
   FitOptions fit;
   SeedOptions seeds;
   Gripper gripper;
+  // The contour stops short of the rock's rim, where its lower flanks are:
+  // the points within rim_px beyond it are taken too, except those less
+  // than sand_clearance_m above the sand plane fitted around the rock.
+  int rim_px = 2;
+  double sand_clearance_m = 0.004;
 };
+
+// Throws std::invalid_argument naming the first option out of range.
+void validate(const SamplingOptions& options);
 
 struct RockSample {
   Eigen::Vector2d seed{0, 0};  // x = column, y = row
@@ -33,6 +41,11 @@ struct RockSample {
 // The measured points where `mask` is set.
 std::vector<Eigen::Vector3d> pointsInside(const sensor::StriperImage& image,
                                           const io::ByteImage& mask);
+
+// The points of the rock a contour outlines: inside it, and on its rim
+// above the sand (see SamplingOptions).
+std::vector<Eigen::Vector3d> rockPoints(const sensor::StriperImage& image, const Contour& contour,
+                                        const SamplingOptions& options = {});
 
 // Throws std::invalid_argument for a bad seed or a contour around fewer than
 // 11 measured points.

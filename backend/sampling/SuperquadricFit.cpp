@@ -18,11 +18,12 @@ using Vector = Eigen::Matrix<double, kParams, 1>;
 using Matrix = Eigen::Matrix<double, kParams, kParams>;
 constexpr double kEpsMin = 0.1, kEpsMax = 2.0, kSizeMin = 1e-3;
 
-// r = sqrt(a1 a2 a3) (F^eps1 - 1) at p, and its gradient (rotation as a
-// small turn applied in the object frame).
-double residual(const Superquadric& s, const Eigen::Vector3d& p, Row* j) {
+// G = F^eps1 at p in the object frame (x), and its gradient over the
+// parameters (rotation as a small turn applied in the object frame).
+double powerF(const Superquadric& s, const Eigen::Vector3d& p, Row* dg, Eigen::Vector3d* x_out) {
   const Eigen::Matrix3d rot = s.pose.linear();
   const Eigen::Vector3d x = rot.transpose() * (p - s.pose.translation());
+  if (x_out) *x_out = x;
   const double a1 = s.size.x(), a2 = s.size.y(), a3 = s.size.z(), e1 = s.eps1, e2 = s.eps2;
   constexpr double kTiny = 1e-12;
   const double ax = std::max(std::abs(x.x()) / a1, kTiny);
@@ -30,37 +31,58 @@ double residual(const Superquadric& s, const Eigen::Vector3d& p, Row* j) {
   const double az = std::max(std::abs(x.z()) / a3, kTiny);
   const double u = std::pow(ax, 2 / e2), v = std::pow(ay, 2 / e2), w = std::pow(az, 2 / e1);
   const double sum = u + v, g = std::pow(sum, e2 / e1), f = g + w;
-  const double big_g = std::pow(f, e1), volume = std::sqrt(a1 * a2 * a3);
-  const double r = volume * (big_g - 1);
-  if (!j) return r;
+  const double big_g = std::pow(f, e1);
+  if (!dg) return big_g;
   const double common = (2 / e1) * g / sum;  // dF/du * du/dx * x / u
   auto over = [](double value, double by) { return std::abs(by) > kTiny ? value / by : 0.0; };
   const Eigen::Vector3d df_dx(common * over(u, x.x()), common * over(v, x.y()),
                               (2 / e1) * over(w, x.z()));
   const double dg_df = e1 * big_g / f;
-  const double df_da1 = -common * u / a1, df_da2 = -common * v / a2, df_da3 = -(2 / e1) * w / a3;
   const double du_de2 = u * std::log(ax) * (-2 / (e2 * e2));
   const double dv_de2 = v * std::log(ay) * (-2 / (e2 * e2));
   const double df_de2 = g * (std::log(sum) / e1 + (e2 / e1) * (du_de2 + dv_de2) / sum);
   const double df_de1 = g * std::log(sum) * (-e2 / (e1 * e1)) + w * std::log(az) * (-2 / (e1 * e1));
-  const double dbigg_de1 = big_g * (std::log(f) + e1 * df_de1 / f);
-  (*j)(0) = volume * dg_df * df_da1 + (big_g - 1) * volume / (2 * a1);
-  (*j)(1) = volume * dg_df * df_da2 + (big_g - 1) * volume / (2 * a2);
-  (*j)(2) = volume * dg_df * df_da3 + (big_g - 1) * volume / (2 * a3);
-  (*j)(3) = volume * dbigg_de1;
-  (*j)(4) = volume * dg_df * df_de2;
-  const Eigen::Vector3d dr_dx = volume * dg_df * df_dx;
-  j->segment<3>(5) = -(rot * dr_dx).transpose();
+  (*dg)(0) = dg_df * -common * u / a1;
+  (*dg)(1) = dg_df * -common * v / a2;
+  (*dg)(2) = dg_df * -(2 / e1) * w / a3;
+  (*dg)(3) = big_g * (std::log(f) + e1 * df_de1 / f);
+  (*dg)(4) = dg_df * df_de2;
+  const Eigen::Vector3d dg_dx = dg_df * df_dx;
+  dg->segment<3>(5) = -(rot * dg_dx).transpose();
   // x' = x + x cross d for a small turn d: dx/dd = [x]_x.
   Eigen::Matrix3d skew;
   skew << 0, -x.z(), x.y(), x.z(), 0, -x.x(), -x.y(), x.x(), 0;
-  j->segment<3>(8) = dr_dx.transpose() * skew;
-  return r;
+  dg->segment<3>(8) = dg_dx.transpose() * skew;
+  return big_g;
 }
 
-Superquadric applyStep(const Superquadric& s, const Vector& d) {
+// The residual the options choose, and its gradient.
+double residual(const Superquadric& s, const Eigen::Vector3d& p, FitResidual kind, Row* j) {
+  Row dg;
+  Eigen::Vector3d x;
+  const double big_g = powerF(s, p, j ? &dg : nullptr, &x);
+  if (kind == FitResidual::kSolina) {
+    // sqrt(a1 a2 a3) (F^eps1 - 1)
+    const double volume = std::sqrt(s.size.prod());
+    if (j) {
+      *j = volume * dg;
+      for (int i = 0; i < 3; ++i) (*j)(i) += (big_g - 1) * volume / (2 * s.size[i]);
+    }
+    return volume * (big_g - 1);
+  }
+  // |x| (1 - F^(-eps1/2)): the distance to the surface along the ray from
+  // the centre (Jaklic et al.), nearly Euclidean near the surface.
+  const double norm = std::max(x.norm(), 1e-12), h = std::pow(big_g, -0.5);
+  if (j) {
+    *j = norm * 0.5 * std::pow(big_g, -1.5) * dg;
+    j->segment<3>(5) -= (1 - h) * (s.pose.linear() * x / norm).transpose();
+  }
+  return norm * (1 - h);
+}
+
+Superquadric applyStep(const Superquadric& s, const Vector& d, double max_size) {
   Superquadric out = s;
-  for (int i = 0; i < 3; ++i) out.size[i] = std::max(kSizeMin, s.size[i] + d(i));
+  for (int i = 0; i < 3; ++i) out.size[i] = std::clamp(s.size[i] + d(i), kSizeMin, max_size);
   out.eps1 = std::clamp(s.eps1 + d(3), kEpsMin, kEpsMax);
   out.eps2 = std::clamp(s.eps2 + d(4), kEpsMin, kEpsMax);
   const Eigen::Vector3d turn = d.segment<3>(8);
@@ -87,10 +109,10 @@ std::vector<double> weightsFor(const std::vector<double>& r, const FitOptions& o
 }
 
 double weightedCost(const Superquadric& s, const std::vector<Eigen::Vector3d>& points,
-                    const std::vector<double>& w) {
+                    const std::vector<double>& w, FitResidual kind) {
   double cost = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const double r = residual(s, points[i], nullptr);
+    const double r = residual(s, points[i], kind, nullptr);
     cost += w[i] * r * r;
   }
   return cost;
@@ -106,6 +128,7 @@ void validate(const FitOptions& o) {
           "max_iterations must be in [1, 100000]");
   require(o.tolerance > 0 && o.tolerance < 1, "tolerance must be in (0, 1)");
   require(o.cauchy_scale > 0 && o.cauchy_scale <= 100, "cauchy_scale must be in (0, 100]");
+  require(o.max_size_ratio >= 1 && o.max_size_ratio <= 100, "max_size_ratio must be in [1, 100]");
 }
 
 std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& points, double keep) {
@@ -161,9 +184,13 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
                                 " points, at least 11 needed");
   for (const auto& p : points)
     if (!p.allFinite()) throw std::invalid_argument("superquadric fit: a point is not finite");
+  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (const auto& p : points) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+  const double max_size = std::max(kSizeMin, o.max_size_ratio * 0.5 * (hi - lo).maxCoeff());
   SuperquadricFit fit;
   // The robust fit starts from the moments of the points' densest 75 %.
   fit.shape = momentEllipsoid(o.robust ? trimmedCore(points, 0.75) : points);
+  fit.shape.size = fit.shape.size.cwiseMin(max_size);
   double lambda = 1e-3;
   std::vector<double> r(points.size());
   for (fit.iterations = 0; fit.iterations < o.max_iterations; ++fit.iterations) {
@@ -171,7 +198,7 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
     Vector g = Vector::Zero();
     std::vector<Row> jacobian(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
-      r[i] = residual(fit.shape, points[i], &jacobian[i]);
+      r[i] = residual(fit.shape, points[i], o.residual, &jacobian[i]);
     const auto w = weightsFor(r, o);
     double cost = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -185,8 +212,8 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
       Matrix damped = h;
       damped.diagonal() += lambda * h.diagonal().cwiseMax(1e-12);
       const Vector step = damped.ldlt().solve(-g);
-      const Superquadric candidate = applyStep(fit.shape, step);
-      new_cost = weightedCost(candidate, points, w);
+      const Superquadric candidate = applyStep(fit.shape, step, max_size);
+      new_cost = weightedCost(candidate, points, w, o.residual);
       if (std::isfinite(new_cost) && new_cost < cost) {
         fit.shape = candidate;
         lambda = std::max(lambda / 3, 1e-9);
@@ -201,14 +228,15 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
     }
   }
   // Quality over the points that count.
-  for (std::size_t i = 0; i < points.size(); ++i) r[i] = residual(fit.shape, points[i], nullptr);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    r[i] = residual(fit.shape, points[i], o.residual, nullptr);
   const auto w = weightsFor(r, o);
-  const double volume = std::sqrt(fit.shape.size.prod());
   double sum = 0;
   int kept = 0;
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (w[i] >= 0.5) sum += std::pow(r[i] / volume, 2), ++kept;
-  fit.rms = kept ? std::sqrt(sum / kept) : 0.0;
+    if (w[i] >= 0.5)
+      sum += std::pow(residual(fit.shape, points[i], FitResidual::kRadial, nullptr), 2), ++kept;
+  fit.rms_m = kept ? std::sqrt(sum / kept) : 0.0;
   fit.inlier_share = double(kept) / double(points.size());
   return fit;
 }

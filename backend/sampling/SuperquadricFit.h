@@ -16,11 +16,21 @@ namespace ambler::sampling {
 // SO(3)). The robust variant re-weights each iteration with Cauchy weights
 // scaled by the residuals' median absolute deviation, so that stray sand
 // points and outliers lose their pull.
+enum class FitResidual {
+  kSolina,  // sqrt(a1 a2 a3) (F^eps1 - 1), the paper's choice
+  kRadial,  // |x| (1 - F^(-eps1/2)): the radial distance to the surface
+};
+
 struct FitOptions {
+  FitResidual residual = FitResidual::kRadial;  // measured better: docs/sampling.md
   bool robust = false;
   int max_iterations = 200;
   double tolerance = 1e-8;      // relative decrease of the cost that ends the fit
   double cauchy_scale = 2.385;  // in robust standard deviations (1.4826 MAD)
+  // No size may exceed this multiple of the points' largest horizontal
+  // half-extent: a view of a rock's top cannot support more, and without a
+  // bound the fit of a cap can run off into a tall column.
+  double max_size_ratio = 2.0;
 };
 
 // Throws std::invalid_argument naming the first option out of range.
@@ -28,7 +38,7 @@ void validate(const FitOptions& options);
 
 struct SuperquadricFit {
   Superquadric shape;
-  double rms = 0.0;           // of F^eps1 - 1 over the points of weight >= 0.5 (unitless)
+  double rms_m = 0.0;         // radial distance to the surface, points of weight >= 0.5 [m]
   double inlier_share = 1.0;  // share of the points of weight >= 0.5
   int iterations = 0;
   bool converged = false;

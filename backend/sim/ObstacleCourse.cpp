@@ -39,8 +39,8 @@ bool overlapsAny(const Box2& b, const std::vector<Box2>& taken) {
 // metres, burial as the fraction of a3 by which the centre sits below the
 // ground.
 void scatterRocks(Draw& draw, const ProceduralTerrain& ground, const Box2& area, int count,
-                  double a_lo, double a_hi, double a3_lo, double a3_hi, double burial_hi,
-                  std::vector<Box2>& taken, std::vector<Feature>& features) {
+                  double a_lo, double a_hi, double a3_lo, double a3_hi, double burial_lo,
+                  double burial_hi, std::vector<Box2>& taken, std::vector<Feature>& features) {
   for (int placed = 0, attempts = 0; placed < count && attempts < 50 * count; ++attempts) {
     Superquadric s;
     s.size = {draw(a_lo, a_hi), draw(a_lo, a_hi), draw(a3_lo, a3_hi)};
@@ -50,7 +50,8 @@ void scatterRocks(Draw& draw, const ProceduralTerrain& ground, const Box2& area,
     const double r = s.footprintRadius();
     const Box2 b{x - r, y - r, x + r, y + r};
     if (overlapsAny(b, taken)) continue;
-    const double z = ground.groundHeight(x, y) - draw(0.0, burial_hi) * s.size.z();
+    // Burial: the share of the rock's height 2 a3 below the sand.
+    const double z = ground.groundHeight(x, y) + (1 - 2 * draw(burial_lo, burial_hi)) * s.size.z();
     s.pose =
         Eigen::Translation3d(x, y, z) * Eigen::AngleAxisd(draw(0, M_PI), Eigen::Vector3d::UnitZ());
     features.push_back(Rock{s});
@@ -82,8 +83,10 @@ TerrainDescription makeObstacleCourse(const CourseOptions& options) {
     add(Ramp{ramp, 4.0, 0.8}, ramp);
   }
   const Box2 field{d.extent.x_min + 2, 4.0, d.extent.x_max - 2, d.extent.y_max - 4};
-  scatterRocks(draw, ground, field, options.boulders, 0.4, 0.9, 0.3, 0.7, 0.4, taken, d.features);
-  scatterRocks(draw, ground, field, options.rocks, 0.05, 0.2, 0.04, 0.15, 0.5, taken, d.features);
+  scatterRocks(draw, ground, field, options.boulders, 0.4, 0.9, 0.3, 0.7, 0.5, 0.7, taken,
+               d.features);
+  scatterRocks(draw, ground, field, options.rocks, 0.05, 0.2, 0.04, 0.15, 0.5, 0.75, taken,
+               d.features);
   return d;
 }
 
@@ -96,7 +99,8 @@ TerrainDescription makeWorkArea(const WorkAreaOptions& options) {
   const ProceduralTerrain ground(d);
   std::vector<Box2> taken;
   const Box2 field{-h + 0.12, -h + 0.12, h - 0.12, h - 0.12};
-  scatterRocks(draw, ground, field, options.rocks, 0.03, 0.08, 0.025, 0.06, 0.5, taken, d.features);
+  scatterRocks(draw, ground, field, options.rocks, 0.03, 0.08, 0.025, 0.06, options.burial_min,
+               options.burial_max, taken, d.features);
   return d;
 }
 

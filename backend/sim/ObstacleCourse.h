@@ -20,13 +20,16 @@ struct CourseOptions {
 TerrainDescription makeObstacleCourse(const CourseOptions& options);
 
 // The rock-sampling work area of the cmu-1990 sampling paper: a sand tray
-// with small ripples and superquadric rocks partly buried in it (centres
-// between half their height below the sand and the sand surface, so the
-// visible part is the true superquadric surface).
+// with small ripples and superquadric rocks in it, each with a share of its
+// height (2 a3) below the sand drawn from [burial_min, burial_max]; by
+// default from half (centre at the sand) to three quarters. The visible
+// part is the true superquadric surface.
 struct WorkAreaOptions {
   std::uint64_t seed = 1;
   double size = 1.2;  // side of the square tray [m], centred on the origin
   int rocks = 5;
+  double burial_min = 0.5;
+  double burial_max = 0.75;
 };
 TerrainDescription makeWorkArea(const WorkAreaOptions& options);
 

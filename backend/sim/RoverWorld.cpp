@@ -41,8 +41,8 @@ sensor::RangeImage RoverWorld::scan(std::uint64_t index) const {
 }
 
 sensor::StriperImage RoverWorld::striperScan(std::uint64_t index) const {
-  if (!fine_caster_)
-    fine_caster_ = std::make_unique<RayCaster>(
+  if (!striper_)
+    striper_ = std::make_unique<StriperRenderer>(
         terrain_, RayCasterOptions{.cell_size = 0.25, .step = 0.01, .tolerance = 1e-4});
   const gait::BodyPose& b = rover_.truth().body;
   const auto at = [&](double right, double forward, double up) {
@@ -55,7 +55,7 @@ sensor::StriperImage RoverWorld::striperScan(std::uint64_t index) const {
   model.camera_position = at(0.0, 2.0, 1.1);
   model.look_at = at(0.0, 2.6, 0.0);
   model.projector_position = at(0.5, 2.1, 0.8);
-  return simulateStriper(terrain_, *fine_caster_, model, seed_ * 1000 + index).image;
+  return striper_->render(model, seed_ * 1000 + index).image;
 }
 
 Eigen::Isometry3d RoverWorld::mountPose(const gait::BodyPose& b) const {

@@ -52,7 +52,7 @@ class RoverWorld {
   ProceduralTerrain terrain_;
   HeightfieldTerrain seen_;  // what the scanner's rays meet
   RayCaster caster_;
-  mutable std::unique_ptr<RayCaster> fine_caster_;  // for the striper, built when first needed
+  mutable std::unique_ptr<StriperRenderer> striper_;  // built when first needed
   RoverSim rover_;
 };
 

@@ -1,6 +1,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "io/Image.h"
 #include "sensor/StriperImage.h"
@@ -36,8 +39,32 @@ struct StriperScene {
 
 // Ray-casts the camera; a surface point the projector cannot see (or that
 // the camera misses) has no measurement, as in a real striper's range
-// shadows. Intensity is Lambertian under the projector's light.
-StriperScene simulateStriper(const ProceduralTerrain& terrain, const RayCaster& caster,
-                             const StriperModel& model, std::uint64_t noise_seed);
+// shadows. Intensity is Lambertian under the projector's light. Rocks are
+// rendered as whole superquadrics (a heightfield would turn the part below
+// a rock's widest outline into a vertical wall); the rest of the terrain,
+// ground, boxes, trenches and ramps, through a ray caster.
+class StriperRenderer {
+ public:
+  StriperRenderer(const ProceduralTerrain& terrain, RayCasterOptions options);
+  StriperScene render(const StriperModel& model, std::uint64_t noise_seed) const;
+
+ private:
+  struct Hit {
+    double t;
+    int feature;  // index into the terrain's features, -1 for the ground
+  };
+  std::optional<Hit> firstHit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                              double max_range) const;
+  Eigen::Vector3d normalAt(const Eigen::Vector3d& p, int feature) const;
+
+  std::vector<int> ground_features_;                 // ground_'s feature index -> the terrain's
+  ProceduralTerrain ground_;                         // the terrain without its rocks
+  std::vector<std::pair<int, Superquadric>> rocks_;  // the terrain's feature index, shape
+  RayCaster caster_;
+};
+
+// One image of a small scene (the sampling tray).
+StriperScene simulateStriper(const ProceduralTerrain& terrain, const StriperModel& model,
+                             std::uint64_t noise_seed);
 
 }  // namespace ambler::sim

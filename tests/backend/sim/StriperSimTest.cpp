@@ -14,10 +14,9 @@ struct Scene {
 
 Scene simulate(std::uint64_t seed, double noise) {
   ProceduralTerrain terrain(makeWorkArea({.seed = seed}));
-  const RayCaster caster(terrain, {.cell_size = 0.02, .step = 0.001});
   StriperModel model;
   model.noise_sigma = noise;
-  auto striper = simulateStriper(terrain, caster, model, seed);
+  auto striper = simulateStriper(terrain, model, seed);
   return {std::move(terrain), std::move(striper)};
 }
 
