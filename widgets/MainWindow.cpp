@@ -22,6 +22,7 @@
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
+#include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
 #include "widgets/TerrainView.h"
@@ -38,6 +39,7 @@ MainWindow::MainWindow(QWidget* parent)
       walk_action_(new QAction(tr("Walk 5 steps"), this)),
       approval_(new StepApprovalPanel),
       map_view_(new MapView),
+      sampling_(new SamplingPanel),
       views_(new QTabWidget),
       status_(new QLabel),
       link_status_(new QLabel),
@@ -49,6 +51,7 @@ MainWindow::MainWindow(QWidget* parent)
   auto* splitter = new QSplitter(Qt::Horizontal);
   views_->addTab(range_view_, tr("Range image"));
   views_->addTab(map_view_, tr("Terrain map"));
+  views_->addTab(sampling_, tr("Rock sampling"));
   splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);
   splitter->setStretchFactor(0, 3);
@@ -212,6 +215,8 @@ void MainWindow::showScan(const ScanDisplay& display) {
 }
 
 void MainWindow::showMapView() { views_->setCurrentWidget(map_view_); }
+
+void MainWindow::showSamplingView() { views_->setCurrentWidget(sampling_); }
 
 void MainWindow::setLinkStatus(const QString& text, bool stale) {
   link_status_->setText(text);

@@ -46,6 +46,10 @@ class MainWindow : public QMainWindow {
   QAction* walkAction() const { return walk_action_; }
   StepApprovalPanel* approvalPanel() const { return approval_; }
   MapView* mapView() const { return map_view_; }
+  class SamplingPanel* samplingPanel() const {
+    return sampling_;
+  }
+  void showSamplingView();
   TelemetryPanel* telemetry() const { return telemetry_; }
   CommandLogView* commandLog() const { return command_log_; }
   TimelineBar* timeline() const { return timeline_; }
@@ -82,6 +86,7 @@ class MainWindow : public QMainWindow {
   QAction* walk_action_;
   StepApprovalPanel* approval_;
   MapView* map_view_;
+  class SamplingPanel* sampling_;
   class QTabWidget* views_;
   QLabel* status_;
   QString status_text_;

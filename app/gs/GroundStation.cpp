@@ -1,5 +1,6 @@
 #include "app/gs/GroundStation.h"
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QDateTime>
 #include <QDir>
@@ -7,8 +8,11 @@
 #include <QtConcurrent/QtConcurrentRun>
 
 #include "app/gs/DdsConnection.h"
+#include "sim/ObstacleCourse.h"
+#include "sim/StriperSim.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
+#include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
 #include "widgets/TerrainView.h"
@@ -62,6 +66,20 @@ void GroundStation::wireWindow() {
   connect(window_.timeline(), &widgets::TimelineBar::timeChanged, this,
           &GroundStation::showReplayAt);
 
+  auto* sampling = window_.samplingPanel();
+  connect(sampling, &widgets::SamplingPanel::sceneRequested, this, &GroundStation::showTray);
+  connect(sampling, &widgets::SamplingPanel::graspApproved, this,
+          [this, sampling](const sampling::GraspPlan& plan, const QString& fit) {
+            if (timeline_) return sampling->setGraspAnswer(tr("a replay cannot command"), false);
+            if (!session_ && !openSession().isEmpty()) return;
+            const auto why = session_->sendGrasp(plan, fit.toStdString());
+            sampling->setGraspAnswer(why.isEmpty() ? tr("Grasp sent, signed by %1 and logged; "
+                                                        "its answer is in Events and commands")
+                                                         .arg(options_.operator_id)
+                                                   : tr("Not sent: %1").arg(why),
+                                     why.isEmpty());
+          });
+
   auto* panel = window_.approvalPanel();
   connect(window_.mapView(), &widgets::MapView::footholdClicked, this,
           [this](quint64 id, double x, double y) {
@@ -79,6 +97,18 @@ void GroundStation::wireWindow() {
   connect(panel, &widgets::StepApprovalPanel::autoApproveChanged, this, [this](bool on) {
     if (session_) session_->setAutoApprove(on);
   });
+}
+
+// The sampling testbed's tray, simulated: rocks from resting on the sand to
+// half buried, seen by the light-striper.
+void GroundStation::showTray(quint64 seed) {
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  const sim::ProceduralTerrain tray(
+      sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
+  window_.samplingPanel()->setImage(sim::simulateStriper(tray, sim::StriperModel{}, seed).image);
+  window_.samplingPanel()->setSeed(seed);
+  QApplication::restoreOverrideCursor();
+  window_.showSamplingView();
 }
 
 QString GroundStation::newLogPath() const {

@@ -48,6 +48,8 @@ class GroundStation : public QObject {
   void openLog(const QString& path);
   // Live: the station's walk of `steps` steps on the current session.
   void startWalk(int steps);
+  // A simulated light-striper image of the sampling tray on course `seed`.
+  void showTray(quint64 seed);
 
  signals:
   void replayReady();

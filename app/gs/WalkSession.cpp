@@ -3,6 +3,7 @@
 #include <chrono>
 #include <random>
 
+#include "link/Limits.h"
 #include "rover/InProcessLink.h"
 
 namespace ambler::gs {
@@ -111,6 +112,33 @@ void WalkSession::setAutoApprove(bool on) {
   if (on && gate_.pending() && gate_.pending()->interlocks.passed())
     gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
   emit changed();
+}
+
+QString WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
+  if (!plan.ok) return tr("no grasp to send: %1").arg(QString::fromStdString(plan.reason));
+  const auto phase = executive_->phase();
+  if (phase != executive::Phase::kIdle && phase != executive::Phase::kDone &&
+      phase != executive::Phase::kSuspended)
+    return tr("the walk is %1: grasp once it has stopped")
+        .arg(QString::fromStdString(executive::phaseName(phase)));
+  const link::Grasp grasp{plan.centre.x(), plan.centre.y(), plan.centre.z(), plan.yaw_rad,
+                          plan.opening_m};
+  if (const auto why = link::outsideLimits(grasp, context_.model, context_.gait); !why.empty())
+    return QString::fromStdString(why);
+  const missionlog::Decision decision{nowS(), operator_id_.toStdString(), 0,
+                                      missionlog::Verdict::kApproved,
+                                      "{\"grasp\": " + detail + "}"};
+  log_.record(decision);
+  table_.decided(decision);
+  link::Command command;
+  command.rover_id = rover_.rover_id;
+  command.time_s = nowS();
+  command.body = grasp;
+  signer_->sign(command);
+  link_->send(command);
+  if (!timer_.isActive()) timer_.start(50);  // for the answer
+  emit changed();
+  return {};
 }
 
 QString WalkSession::linkDescription() const { return QString::fromStdString(link_->describe()); }

@@ -9,6 +9,7 @@
 #include "executive/WalkExecutive.h"
 #include "missionlog/ReplayLinks.h"
 #include "replay/CommandTable.h"
+#include "sampling/GraspPlan.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::gs {
@@ -51,6 +52,10 @@ class WalkSession : public QObject {
   // checked again, still pending.
   QString editFoothold(quint64 proposal, double x_m, double y_m);
   void setAutoApprove(bool on);
+  // The operator approved this grasp (`detail`: JSON of the fit behind it):
+  // checked against the rover's limits, logged, signed and sent. Refused
+  // while a walk is under way. Empty when sent, else why not.
+  QString sendGrasp(const sampling::GraspPlan& plan, const std::string& detail);
 
   const executive::WalkExecutive& executive() const { return *executive_; }
   const std::optional<executive::StepProposal>& pending() const { return gate_.pending(); }

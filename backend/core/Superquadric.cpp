@@ -20,6 +20,14 @@ double Superquadric::insideOutside(const Eigen::Vector3d& world_point) const {
   return planarTerm(*this, p.x(), p.y()) + std::pow(std::abs(p.z() / size.z()), 2.0 / eps1);
 }
 
+Eigen::Vector3d Superquadric::surfacePoint(double eta, double omega) const {
+  auto signedPow = [](double v, double e) { return std::copysign(std::pow(std::abs(v), e), v); };
+  const double ce = signedPow(std::cos(eta), eps1);
+  return pose * Eigen::Vector3d(size.x() * ce * signedPow(std::cos(omega), eps2),
+                                size.y() * ce * signedPow(std::sin(omega), eps2),
+                                size.z() * signedPow(std::sin(eta), eps1));
+}
+
 std::optional<double> Superquadric::topHeight(double x, double y) const {
   const Eigen::Vector3d local =
       pose.linear().transpose() * (Eigen::Vector3d(x, y, 0) - pose.translation());

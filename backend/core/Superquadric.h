@@ -20,6 +20,10 @@ struct Superquadric {
   // surface above (x, y), or nothing outside its outline.
   std::optional<double> topHeight(double x, double y) const;
 
+  // The surface point at latitude eta in [-pi/2, pi/2] and longitude omega
+  // in [-pi, pi] (the parametric form), in the world.
+  Eigen::Vector3d surfacePoint(double eta, double omega) const;
+
   // Radius of a vertical cylinder around the centre that contains it.
   double footprintRadius() const { return size.head<2>().norm(); }
 };

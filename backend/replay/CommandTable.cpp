@@ -60,7 +60,10 @@ void CommandTable::answer(double time_s, const link::CommandAck& a) {
 
 void CommandTable::decided(const missionlog::Decision& d) {
   const auto verdict = missionlog::verdictName(d.verdict);
-  rows_.push_back({d.time_s, d.operator_id, verdict + " proposal " + std::to_string(d.proposal),
+  // A grasp is decided outside the walk's proposals (WalkSession::sendGrasp).
+  const bool grasp = d.detail.rfind("{\"grasp\"", 0) == 0;
+  rows_.push_back({d.time_s, d.operator_id,
+                   verdict + (grasp ? " grasp" : " proposal " + std::to_string(d.proposal)),
                    verdict, d.detail});
 }
 

@@ -24,9 +24,13 @@
 
 #include "app/gs/GroundStation.h"
 #include "core/Resources.h"
+#include "missionlog/MissionLog.h"
+#include "sim/ObstacleCourse.h"
+#include "sim/StriperSim.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
+#include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
 #include "widgets/TerrainView.h"
@@ -286,6 +290,58 @@ class GroundStationTest : public QObject {
     QCOMPARE(lines.size(), w.commandLog()->rowCount() + 1);
     // A folder that cannot be written is named in the error, not a crash.
     QVERIFY(w.exportTable("/proc/no/such/commands.csv").contains("/proc/no/such"));
+  }
+
+  // Rock sampling: a click on a seed in the tray's image outlines the rock,
+  // fits it (close to the simulator's rock) and approving sends a signed,
+  // logged Grasp.
+  void samplingAFittedRockSendsASignedGrasp() {
+    Console c;
+    c.station.showTray(3);
+    auto& panel = *c.station.window().samplingPanel();
+    QVERIFY(!panel.seeds().empty());
+    QVERIFY(!panel.approveButton()->isEnabled());
+    const auto seed = panel.seeds().front().pixel;
+    QTest::mouseClick(panel.imageView(), Qt::LeftButton, {},
+                      panel.viewPointOf(seed.y(), seed.x()).toPoint());
+    QVERIFY(panel.sample().has_value());
+    // The rock under the seed, in the same simulated tray.
+    const ambler::sim::ProceduralTerrain tray(
+        ambler::sim::makeWorkArea({.seed = 3, .burial_min = 0.0, .burial_max = 0.5}));
+    const auto truth = ambler::sim::simulateStriper(tray, ambler::sim::StriperModel{}, 3);
+    const int label = truth.labels(int(std::lround(seed.y())), int(std::lround(seed.x())));
+    QVERIFY(label != ambler::sim::kLabelGround && label != ambler::sim::kLabelNothing);
+    const auto& rock =
+        std::get<ambler::sim::Rock>(tray.description().features[std::size_t(label - 1)]).shape;
+    const auto& fit = panel.sample()->fit.shape;
+    QVERIFY2((fit.pose.translation() - rock.pose.translation()).head<2>().norm() < 0.01,
+             "the fit is not on the rock clicked");
+    QVERIFY(panel.info()->text().contains("Superquadric"));
+    QTRY_VERIFY(panel.approveButton()->isEnabled());  // after the contour has grown on screen
+    const QString error = screenshot(&panel, "rock-sampling.png");
+    QVERIFY2(error.isEmpty(), qPrintable(error));
+
+    QTest::mouseClick(panel.approveButton(), Qt::LeftButton);
+    QVERIFY(c.station.session());
+    QVERIFY(panel.info()->text().contains("Grasp sent"));
+    const auto& rows = c.session().commandRows();
+    auto row = std::find_if(rows.begin(), rows.end(),
+                            [](const auto& r) { return r.what.rfind("Grasp", 0) == 0; });
+    QVERIFY(row != rows.end());
+    QCOMPARE(QString::fromStdString(row->who), QString("alice"));
+    QVERIFY(std::any_of(rows.begin(), rows.end(),
+                        [](const auto& r) { return r.what == "approved grasp"; }));
+    // In the mission log, signed: the rover verified it and answered (this
+    // simulated Ambler, like the real one, has no manipulator).
+    QTRY_VERIFY_WITH_TIMEOUT(
+        std::any_of(c.session().commandRows().begin(), c.session().commandRows().end(),
+                    [](const auto& r) {
+                      return r.what.rfind("Grasp", 0) == 0 && !r.outcome.empty() &&
+                             r.reason.find("signature") == std::string::npos;
+                    }),
+        5000);
+    const ambler::missionlog::MissionLogReader log(c.session().logPath());
+    QCOMPARE(log.summary().to_rover.at("Grasp"), 1L);
   }
 
   // Screenshots of each main view into the build tree (docs/images keeps
