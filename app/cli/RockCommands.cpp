@@ -31,16 +31,11 @@ struct Condition {
   std::map<std::string, MethodErrors> methods;
 };
 
-// The largest relative error of the sizes, horizontal ones compared sorted
-// (a fit may swap x and y) [%].
+// The largest relative error of the sizes [%], each true axis compared
+// with the fitted axis nearest its direction (a fit may name the same
+// shape's axes differently).
 double sizeErrorPct(const Superquadric& fit, const Superquadric& truth) {
-  const auto sorted = [](const Superquadric& s) {
-    return std::pair{std::max(s.size.x(), s.size.y()), std::min(s.size.x(), s.size.y())};
-  };
-  const auto [f0, f1] = sorted(fit);
-  const auto [t0, t1] = sorted(truth);
-  return 100 * std::max({std::abs(f0 / t0 - 1), std::abs(f1 / t1 - 1),
-                         std::abs(fit.size.z() / truth.size.z() - 1)});
+  return 100 * sampling::sizeError(fit, truth);
 }
 
 void record(Errors& e, const sampling::SuperquadricFit& fit, double ms, const Superquadric& truth) {

@@ -15,12 +15,23 @@ GraspPlan planGrasp(const Superquadric& rock, const sensor::StriperImage& image,
     plan.reason = "the rock's fit is not finite";
     return plan;
   }
-  // The main axis: the longer horizontal one of the rock's frame.
+  // The main axis: the fitted axis that spans most of the ground (a fit may
+  // put any of its axes upright).
   const Eigen::Matrix3d axes = rock.pose.linear();
-  const int main = rock.size.x() >= rock.size.y() ? 0 : 1;
-  const Eigen::Vector3d axis = axes.col(main);
-  plan.yaw_rad = std::atan2(axis.y(), axis.x());
-  const double width = 2.0 * std::max(rock.size.x(), rock.size.y());
+  int main = 0;
+  for (int i = 1; i < 3; ++i)
+    if (rock.size[i] * axes.col(i).head<2>().norm() >
+        rock.size[main] * axes.col(main).head<2>().norm())
+      main = i;
+  const Eigen::Vector2d along = axes.col(main).head<2>().normalized();
+  plan.yaw_rad = std::atan2(along.y(), along.x());
+  // Horizontal extents along and across it (of the bounding box).
+  auto extent = [&](const Eigen::Vector2d& u) {
+    double half = 0;
+    for (int i = 0; i < 3; ++i) half += rock.size[i] * std::abs(axes.col(i).head<2>().dot(u));
+    return 2 * half;
+  };
+  const double width = std::max(extent(along), extent({-along.y(), along.x()}));
   plan.opening_m = width + 2.0 * gripper.clearance_m;
   if (plan.opening_m > gripper.max_opening_m) {
     std::ostringstream why;

@@ -12,7 +12,7 @@ namespace ambler::sampling {
 // hemispherical jaws. The paper gives no dimensions; these are assumed.
 struct Gripper {
   double max_opening_m = 0.20;  // between the open jaws' rims
-  double clearance_m = 0.02;    // added to the rock's width on each side
+  double clearance_m = 0.02;    // added to the rock's extent on each side
 };
 
 // cmu-1990 sampling paper §6, spherical grasping: the gripper's centre over

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -148,6 +149,22 @@ std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& poi
     for (std::size_t k = 0; k < std::min(n, d.size()); ++k) core.push_back(points[d[k].second]);
   }
   return core;
+}
+
+double sizeError(const Superquadric& fit, const Superquadric& truth) {
+  // |cos| between each true axis (row) and each fitted axis (column).
+  const Eigen::Matrix3d alignment =
+      (truth.pose.linear().transpose() * fit.pose.linear()).cwiseAbs();
+  std::array<int, 3> match{0, 1, 2}, best = match;
+  double best_alignment = -1;
+  do {
+    const double sum = alignment(0, match[0]) + alignment(1, match[1]) + alignment(2, match[2]);
+    if (sum > best_alignment) best_alignment = sum, best = match;
+  } while (std::next_permutation(match.begin(), match.end()));
+  double worst = 0;
+  for (int t = 0; t < 3; ++t)
+    worst = std::max(worst, std::abs(fit.size[best[std::size_t(t)]] / truth.size[t] - 1));
+  return worst;
 }
 
 Superquadric momentEllipsoid(const std::vector<Eigen::Vector3d>& points) {

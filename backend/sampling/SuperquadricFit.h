@@ -52,6 +52,10 @@ Superquadric momentEllipsoid(const std::vector<Eigen::Vector3d>& points);
 // after a few rounds: a start that outliers do not drag.
 std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& points, double keep);
 
+// The largest relative error of `fit`'s sizes against `truth`'s, each true
+// axis matched to the fitted axis nearest its direction.
+double sizeError(const Superquadric& fit, const Superquadric& truth);
+
 // Throws std::invalid_argument for fewer than 11 points or non-finite ones.
 SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points,
                                 const FitOptions& options = {});

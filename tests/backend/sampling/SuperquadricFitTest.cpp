@@ -43,14 +43,15 @@ std::vector<Eigen::Vector3d> surface(const Superquadric& s, double min_eta, doub
   return out;
 }
 
-// Size and centre errors of a fit against the truth.
-double sizeError(const Superquadric& fit, const Superquadric& truth) {
-  // The fit may swap x and y; compare the sorted horizontal sizes.
-  const double f[2] = {std::max(fit.size.x(), fit.size.y()), std::min(fit.size.x(), fit.size.y())};
-  const double t[2] = {std::max(truth.size.x(), truth.size.y()),
-                       std::min(truth.size.x(), truth.size.y())};
-  return std::max({std::abs(f[0] / t[0] - 1), std::abs(f[1] / t[1] - 1),
-                   std::abs(fit.size.z() / truth.size.z() - 1)});
+TEST(SuperquadricFit, SizeErrorsMatchAxesByDirection) {
+  const auto truth = rock();
+  Superquadric renamed = truth;  // x and y swapped: the same box
+  renamed.size = {truth.size.y(), truth.size.x(), truth.size.z()};
+  renamed.pose = truth.pose * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ());
+  EXPECT_NEAR(sizeError(renamed, truth), 0.0, 1e-12);
+  Superquadric bigger = truth;
+  bigger.size.z() *= 1.2;
+  EXPECT_NEAR(sizeError(bigger, truth), 0.2, 1e-12);
 }
 
 TEST(SuperquadricFit, TheInsideOutsideFunctionIsOneOnTheSurface) {
