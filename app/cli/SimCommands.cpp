@@ -116,6 +116,7 @@ void addSimStriper(CLI::App& app) {
     std::string out;
     int rocks = 5;
     double noise = 0.0005;
+    std::string burial = "0.5,0.75";
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("sim-striper",
@@ -128,10 +129,18 @@ void addSimStriper(CLI::App& app) {
   cmd->add_option("--noise", args->noise, "noise along the camera ray [m]")
       ->check(CLI::Range(0.0, 0.05))
       ->capture_default_str();
+  cmd->add_option("--burial", args->burial,
+                  "MIN,MAX share of each rock's height in the sand, from 0 (resting on it) to 1")
+      ->capture_default_str();
   cmd->callback([args] {
     const auto start = std::chrono::steady_clock::now();
-    const sim::ProceduralTerrain terrain(
-        sim::makeWorkArea({.seed = args->seed, .rocks = args->rocks}));
+    const auto burial = parseNumbers(args->burial, 2, "--burial", "MIN,MAX");
+    if (!(burial[0] >= 0 && burial[0] <= burial[1] && burial[1] <= 1))
+      throw std::invalid_argument("--burial must be MIN,MAX with 0 <= MIN <= MAX <= 1");
+    const sim::ProceduralTerrain terrain(sim::makeWorkArea({.seed = args->seed,
+                                                            .rocks = args->rocks,
+                                                            .burial_min = burial[0],
+                                                            .burial_max = burial[1]}));
     sim::StriperModel model;
     model.noise_sigma = args->noise;
     const auto scene = sim::simulateStriper(terrain, model, args->seed);

@@ -79,6 +79,50 @@ TEST(Cli, SimStriperAndInfo) {
   EXPECT_EQ(described["points"], nlohmann::json::parse(run.out)["points"]);
 }
 
+// fit-rock on a simulated tray of rocks resting on the sand: every
+// automatic seed gives a rock the size of the tray's (2.5-8 cm semi-axes)
+// and a grasp; a seed off the rocks is refused with the reason.
+TEST(Cli, FitRockFitsTheTraysRocksAndRefusesABadSeed) {
+  TempDir dir;
+  const auto striper = (dir / "striper").string();
+  ASSERT_EQ(runCli("sim-striper --seed 3 --burial 0,0.2 --out " + striper).exit_code, 0);
+  const auto run = runCli("fit-rock --striper " + striper + " --auto --robust");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  EXPECT_EQ(out["method"], "robust");
+  ASSERT_EQ(out["rocks"].size(), 5u);
+  for (const auto& rock : out["rocks"]) {
+    ASSERT_TRUE(rock.contains("superquadric")) << rock.dump();
+    for (double a : rock["superquadric"]["size_m"]) {
+      EXPECT_GT(a, 0.015);
+      EXPECT_LT(a, 0.1);
+    }
+    EXPECT_TRUE(rock["grasp"]["ok"]) << rock.dump();
+  }
+  const auto bad = runCli("fit-rock --striper " + striper + " --seed 2,2");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("seed (2, 2)"), std::string::npos) << bad.out;
+  EXPECT_EQ(runCli("fit-rock --striper " + striper).exit_code, 1);
+}
+
+// eval rocks on two trays: the figures the issue asks for, per method.
+TEST(Cli, EvalRocksReportsEachMethod) {
+  const auto run = runCli("eval rocks --seeds 1,2 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  for (const char* condition : {"resting", "partly_buried"}) {
+    const auto& c = out[condition];
+    EXPECT_GE(c["auto_seed_recall"].get<double>(), 0.8);
+    EXPECT_GE(c["contour_iou"]["median"].get<double>(), 0.8);
+    for (const char* method : {"lm", "robust", "lm_solina"})
+      for (const char* key : {"size_err_pct", "center_err_mm", "eps_err", "ms_per_fit"})
+        EXPECT_TRUE(c[method].contains(key)) << condition << " " << method << " " << key;
+  }
+  // Resting rocks, robust fits: the median within the issue's bounds.
+  EXPECT_LT(out["resting"]["robust"]["center_err_mm"]["median"].get<double>(), 5.0);
+  EXPECT_LT(out["resting"]["robust"]["size_err_pct"]["median"].get<double>(), 10.0);
+}
+
 TEST(Cli, InfoDescribesAPcdPointCloud) {
   TempDir dir;
   std::ofstream(dir / "cloud.pcd") << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
