@@ -22,7 +22,6 @@ std::vector<Eigen::Vector3d> rockTop() {
   s.eps1 = 0.6;
   s.eps2 = 0.8;
   s.pose = Eigen::Translation3d(0.1, -0.2, 0.02) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
-  auto spow = [](double v, double e) { return std::copysign(std::pow(std::abs(v), e), v); };
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0.0, 0.0005);
   std::vector<Eigen::Vector3d> out;
@@ -30,11 +29,8 @@ std::vector<Eigen::Vector3d> rockTop() {
     for (int k = 0; k < 50; ++k) {
       const double eta = -M_PI / 6 + (M_PI / 2 + M_PI / 6) * (i + 0.5) / 40;
       const double omega = -M_PI + 2 * M_PI * (k + 0.5) / 50;
-      const Eigen::Vector3d local(
-          s.size.x() * spow(std::cos(eta), s.eps1) * spow(std::cos(omega), s.eps2),
-          s.size.y() * spow(std::cos(eta), s.eps1) * spow(std::sin(omega), s.eps2),
-          s.size.z() * spow(std::sin(eta), s.eps1));
-      out.push_back(s.pose * local + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+      out.push_back(s.surfacePoint(eta, omega) +
+                    Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
     }
   return out;
 }

@@ -26,7 +26,6 @@ Superquadric rock() {
 // `min_eta` in latitude (a view from above sees only the top).
 std::vector<Eigen::Vector3d> surface(const Superquadric& s, double min_eta, double noise,
                                      unsigned seed = 1) {
-  auto spow = [](double v, double e) { return std::copysign(std::pow(std::abs(v), e), v); };
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, noise);
   std::vector<Eigen::Vector3d> out;
@@ -34,11 +33,7 @@ std::vector<Eigen::Vector3d> surface(const Superquadric& s, double min_eta, doub
     for (int k = 0; k < 50; ++k) {
       const double eta = min_eta + (M_PI / 2 - min_eta) * (i + 0.5) / 40;
       const double omega = -M_PI + 2 * M_PI * (k + 0.5) / 50;
-      const Eigen::Vector3d local(
-          s.size.x() * spow(std::cos(eta), s.eps1) * spow(std::cos(omega), s.eps2),
-          s.size.y() * spow(std::cos(eta), s.eps1) * spow(std::sin(omega), s.eps2),
-          s.size.z() * spow(std::sin(eta), s.eps1));
-      out.push_back(s.pose * local + Eigen::Vector3d(n(rng), n(rng), n(rng)));
+      out.push_back(s.surfacePoint(eta, omega) + Eigen::Vector3d(n(rng), n(rng), n(rng)));
     }
   return out;
 }
