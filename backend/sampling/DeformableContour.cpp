@@ -148,8 +148,11 @@ Contour growContour(const FeatureMap& features, const Eigen::Vector2d& seed,
     throw std::invalid_argument("seed (" + std::to_string(row) + ", " + std::to_string(col) +
                                 ") is outside the image");
   if (features.isFeature(row, col))
-    throw std::invalid_argument("seed (" + std::to_string(row) + ", " + std::to_string(col) +
-                                ") lies on a feature: pick a pixel inside the rock");
+    throw std::invalid_argument("seed (" + std::to_string(row) + ", " + std::to_string(col) + ") " +
+                                (features.kindAt(row, col) & kShadow
+                                     ? "has no measurement (a range shadow)"
+                                     : "lies on an edge") +
+                                ": pick a pixel inside the rock");
   Contour contour;
   for (int k = 0; k < 8; ++k)
     contour.points.push_back(seed +
