@@ -139,9 +139,10 @@ void evaluateScene(std::uint64_t seed, std::pair<double, double> burial, double 
       both += a && b, either += a || b;
     }
     out.iou.push_back(double(both) / either);
-    auto points = sampling::rockPoints(image, contour);
+    const auto rock = sampling::rockPoints(image, contour);
+    const auto& points = rock.points;
     if (points.size() < 11) continue;
-    auto stray = points;
+    std::vector<Eigen::Vector3d> stray = points;
     addOutliers(stray, outlier_share, truth, seed * 100 + std::uint64_t(label));
     // LM and robust on the radial distance; LM on Solina's residual, the
     // paper's, for comparison.
@@ -151,10 +152,11 @@ void evaluateScene(std::uint64_t seed, std::pair<double, double> burial, double 
         {"lm_solina", {.residual = sampling::FitResidual::kSolina, .robust = false}}};
     for (const auto& [name, options] : methods) {
       auto& errors = out.methods[name];
-      for (auto* set : {&points, &stray}) {
+      for (const bool with_outliers : {false, true}) {
+        const auto& set = with_outliers ? stray : points;
         const auto start = std::chrono::steady_clock::now();
-        const auto fit = sampling::fitSuperquadric(*set, options);
-        record(set == &points ? errors.clean : errors.outliers, fit, millisecondsSince(start),
+        const auto fit = sampling::fitSuperquadric(set, options, rock.sand);
+        record(with_outliers ? errors.outliers : errors.clean, fit, millisecondsSince(start),
                truth);
       }
     }

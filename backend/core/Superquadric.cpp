@@ -1,5 +1,6 @@
 #include "core/Superquadric.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ambler {
@@ -13,7 +14,23 @@ double planarTerm(const Superquadric& s, double x, double y) {
   return std::pow(px + py, s.eps2 / s.eps1);
 }
 
+// The lp norm of (x, y), scaled so that a large p does not overflow.
+double lpNorm(double x, double y, double p) {
+  const double m = std::max(std::abs(x), std::abs(y));
+  if (m == 0) return 0;
+  return m * std::pow(std::pow(std::abs(x) / m, p) + std::pow(std::abs(y) / m, p), 1 / p);
+}
+
 }  // namespace
+
+double Superquadric::reach(const Eigen::Vector3d& direction) const {
+  // F^(eps1/2) is the 2/eps1 norm of (the 2/eps2 norm of (x/a1, y/a2), z/a3);
+  // the dual exponent of p = 2/eps is 2/(2 - eps).
+  const Eigen::Vector3d u = pose.linear().transpose() * direction;
+  const auto dual = [](double eps) { return 2 / (2 - std::min(eps, 1.99)); };
+  const double across = lpNorm(size.x() * u.x(), size.y() * u.y(), dual(eps2));
+  return lpNorm(across, size.z() * u.z(), dual(eps1));
+}
 
 double Superquadric::insideOutside(const Eigen::Vector3d& world_point) const {
   const Eigen::Vector3d p = pose.inverse() * world_point;

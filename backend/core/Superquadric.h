@@ -24,6 +24,11 @@ struct Superquadric {
   // in [-pi, pi] (the parametric form), in the world.
   Eigen::Vector3d surfacePoint(double eta, double omega) const;
 
+  // How far the shape reaches from its centre along a unit world direction
+  // (its support function): the dual of its nested norm, exact for the
+  // convex shapes (eps1, eps2 <= 2).
+  double reach(const Eigen::Vector3d& direction) const;
+
   // Radius of a vertical cylinder around the centre that contains it.
   double footprintRadius() const { return size.head<2>().norm(); }
 };

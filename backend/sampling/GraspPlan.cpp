@@ -25,12 +25,8 @@ GraspPlan planGrasp(const Superquadric& rock, const sensor::StriperImage& image,
       main = i;
   const Eigen::Vector2d along = axes.col(main).head<2>().normalized();
   plan.yaw_rad = std::atan2(along.y(), along.x());
-  // Horizontal extents along and across it (of the bounding box).
-  auto extent = [&](const Eigen::Vector2d& u) {
-    double half = 0;
-    for (int i = 0; i < 3; ++i) half += rock.size[i] * std::abs(axes.col(i).head<2>().dot(u));
-    return 2 * half;
-  };
+  // Horizontal extents along and across it.
+  auto extent = [&](const Eigen::Vector2d& u) { return 2 * rock.reach({u.x(), u.y(), 0.0}); };
   const double width = std::max(extent(along), extent({-along.y(), along.x()}));
   plan.opening_m = width + 2.0 * gripper.clearance_m;
   if (plan.opening_m > gripper.max_opening_m) {

@@ -63,15 +63,16 @@ void validate(const SamplingOptions& o) {
     throw std::invalid_argument("sampling option sand_clearance_m must be in [0, 0.1) m");
 }
 
-std::vector<Eigen::Vector3d> rockPoints(const sensor::StriperImage& image, const Contour& contour,
-                                        const SamplingOptions& o) {
+RockPoints rockPoints(const sensor::StriperImage& image, const Contour& contour,
+                      const SamplingOptions& o) {
   const auto inner_mask = contourMask(contour, image.rows(), image.cols(), false);
   const cv::Mat inner(image.rows(), image.cols(), CV_8U,
                       const_cast<unsigned char*>(inner_mask.pixels.data()));
   const cv::Mat rim = grown(inner, o.rim_px);
   // The sand: a ring from 3 to 7 pixels beyond the contour.
   const cv::Mat ring = grown(inner, 7) & ~grown(inner, 3);
-  std::vector<Eigen::Vector3d> sand, points;
+  std::vector<Eigen::Vector3d> sand;
+  RockPoints rock;
   for (int r = 0; r < image.rows(); ++r)
     for (int c = 0; c < image.cols(); ++c)
       if (ring.at<std::uint8_t>(r, c) && image.hasPoint(r, c)) sand.push_back(image.point(r, c));
@@ -83,9 +84,13 @@ std::vector<Eigen::Vector3d> rockPoints(const sensor::StriperImage& image, const
       const Eigen::Vector3d p = image.point(r, c);
       const bool inside = inner.at<std::uint8_t>(r, c) != 0;
       const double above = p.z() - plane.dot(Eigen::Vector3d(p.x(), p.y(), 1));
-      if (inside || (has_sand && above > o.sand_clearance_m)) points.push_back(p);
+      if (inside || (has_sand && above > o.sand_clearance_m)) rock.points.push_back(p);
     }
-  return points;
+  if (has_sand) {
+    const Eigen::Vector3d up(-plane.x(), -plane.y(), 1);
+    rock.sand = Eigen::Hyperplane<double, 3>(up.normalized(), -plane.z() / up.norm());
+  }
+  return rock;
 }
 
 RockSample sampleRock(const sensor::StriperImage& image, const FeatureMap& features,
@@ -95,13 +100,15 @@ RockSample sampleRock(const sensor::StriperImage& image, const FeatureMap& featu
   sample.seed = seed;
   validate(options);
   sample.contour = growContour(features, seed, options.contour, observer);
-  sample.points = rockPoints(image, sample.contour, options);
+  auto rock = rockPoints(image, sample.contour, options);
+  sample.points = std::move(rock.points);
+  sample.sand = rock.sand;
   if (sample.points.size() < 11)
     throw std::invalid_argument("the contour from this seed encloses " +
                                 std::to_string(sample.points.size()) +
                                 " measured points; a fit needs 11");
   const auto start = std::chrono::steady_clock::now();
-  sample.fit = fitSuperquadric(sample.points, options.fit);
+  sample.fit = fitSuperquadric(sample.points, options.fit, sample.sand);
   sample.fit_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   sample.grasp = planGrasp(sample.fit.shape, image, options.gripper);

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "sampling/AutoSeeds.h"
@@ -33,6 +35,7 @@ struct RockSample {
   Eigen::Vector2d seed{0, 0};  // x = column, y = row
   Contour contour;
   std::vector<Eigen::Vector3d> points;
+  std::optional<Eigen::Hyperplane<double, 3>> sand;
   SuperquadricFit fit;
   double fit_ms = 0.0;
   GraspPlan grasp;
@@ -42,10 +45,17 @@ struct RockSample {
 std::vector<Eigen::Vector3d> pointsInside(const sensor::StriperImage& image,
                                           const io::ByteImage& mask);
 
+struct RockPoints {
+  std::vector<Eigen::Vector3d> points;
+  // The plane of the sand around the contour (normal up), when enough of
+  // it was measured.
+  std::optional<Eigen::Hyperplane<double, 3>> sand;
+};
+
 // The points of the rock a contour outlines: inside it, and on its rim
 // above the sand (see SamplingOptions).
-std::vector<Eigen::Vector3d> rockPoints(const sensor::StriperImage& image, const Contour& contour,
-                                        const SamplingOptions& options = {});
+RockPoints rockPoints(const sensor::StriperImage& image, const Contour& contour,
+                      const SamplingOptions& options = {});
 
 // Throws std::invalid_argument for a bad seed or a contour around fewer than
 // 11 measured points.

@@ -30,23 +30,25 @@ double powerF(const Superquadric& s, const Eigen::Vector3d& p, Row* dg, Eigen::V
   const double ax = std::max(std::abs(x.x()) / a1, kTiny);
   const double ay = std::max(std::abs(x.y()) / a2, kTiny);
   const double az = std::max(std::abs(x.z()) / a3, kTiny);
-  const double u = std::pow(ax, 2 / e2), v = std::pow(ay, 2 / e2), w = std::pow(az, 2 / e1);
-  const double sum = u + v, g = std::pow(sum, e2 / e1), f = g + w;
-  const double big_g = std::pow(f, e1);
+  // Powers through exp and log: the logs are needed for the gradient anyway.
+  const double lx = std::log(ax), ly = std::log(ay), lz = std::log(az);
+  const double u = std::exp(2 / e2 * lx), v = std::exp(2 / e2 * ly), w = std::exp(2 / e1 * lz);
+  const double sum = u + v, log_sum = std::log(sum), g = std::exp(e2 / e1 * log_sum), f = g + w;
+  const double log_f = std::log(f), big_g = std::exp(e1 * log_f);
   if (!dg) return big_g;
   const double common = (2 / e1) * g / sum;  // dF/du * du/dx * x / u
   auto over = [](double value, double by) { return std::abs(by) > kTiny ? value / by : 0.0; };
   const Eigen::Vector3d df_dx(common * over(u, x.x()), common * over(v, x.y()),
                               (2 / e1) * over(w, x.z()));
   const double dg_df = e1 * big_g / f;
-  const double du_de2 = u * std::log(ax) * (-2 / (e2 * e2));
-  const double dv_de2 = v * std::log(ay) * (-2 / (e2 * e2));
-  const double df_de2 = g * (std::log(sum) / e1 + (e2 / e1) * (du_de2 + dv_de2) / sum);
-  const double df_de1 = g * std::log(sum) * (-e2 / (e1 * e1)) + w * std::log(az) * (-2 / (e1 * e1));
+  const double du_de2 = u * lx * (-2 / (e2 * e2));
+  const double dv_de2 = v * ly * (-2 / (e2 * e2));
+  const double df_de2 = g * (log_sum / e1 + (e2 / e1) * (du_de2 + dv_de2) / sum);
+  const double df_de1 = g * log_sum * (-e2 / (e1 * e1)) + w * lz * (-2 / (e1 * e1));
   (*dg)(0) = dg_df * -common * u / a1;
   (*dg)(1) = dg_df * -common * v / a2;
   (*dg)(2) = dg_df * -(2 / e1) * w / a3;
-  (*dg)(3) = big_g * (std::log(f) + e1 * df_de1 / f);
+  (*dg)(3) = big_g * (log_f + e1 * df_de1 / f);
   (*dg)(4) = dg_df * df_de2;
   const Eigen::Vector3d dg_dx = dg_df * df_dx;
   dg->segment<3>(5) = -(rot * dg_dx).transpose();
@@ -73,9 +75,9 @@ double residual(const Superquadric& s, const Eigen::Vector3d& p, FitResidual kin
   }
   // |x| (1 - F^(-eps1/2)): the distance to the surface along the ray from
   // the centre (Jaklic et al.), nearly Euclidean near the surface.
-  const double norm = std::max(x.norm(), 1e-12), h = std::pow(big_g, -0.5);
+  const double norm = std::max(x.norm(), 1e-12), h = 1 / std::sqrt(big_g);
   if (j) {
-    *j = norm * 0.5 * std::pow(big_g, -1.5) * dg;
+    *j = norm * 0.5 * h * h * h * dg;
     j->segment<3>(5) -= (1 - h) * (s.pose.linear() * x / norm).transpose();
   }
   return norm * (1 - h);
@@ -109,6 +111,11 @@ std::vector<double> weightsFor(const std::vector<double>& r, const FitOptions& o
   return w;
 }
 
+// The signed height of the shape's lowest point above the ground plane.
+double groundGap(const Superquadric& s, const Eigen::Hyperplane<double, 3>& ground) {
+  return ground.signedDistance(s.pose.translation()) - s.reach(-ground.normal());
+}
+
 double weightedCost(const Superquadric& s, const std::vector<Eigen::Vector3d>& points,
                     const std::vector<double>& w, FitResidual kind) {
   double cost = 0;
@@ -130,6 +137,7 @@ void validate(const FitOptions& o) {
   require(o.tolerance > 0 && o.tolerance < 1, "tolerance must be in (0, 1)");
   require(o.cauchy_scale > 0 && o.cauchy_scale <= 100, "cauchy_scale must be in (0, 100]");
   require(o.max_size_ratio >= 1 && o.max_size_ratio <= 100, "max_size_ratio must be in [1, 100]");
+  require(o.resting_weight >= 0 && o.resting_weight <= 10, "resting_weight must be in [0, 10]");
 }
 
 std::vector<Eigen::Vector3d> trimmedCore(const std::vector<Eigen::Vector3d>& points, double keep) {
@@ -194,43 +202,87 @@ Superquadric momentEllipsoid(const std::vector<Eigen::Vector3d>& points) {
   return s;
 }
 
-SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, const FitOptions& o) {
-  validate(o);
+namespace {
+
+// The least-squares problem: the points' residuals under weights, and the
+// resting prior as one more residual.
+struct Problem {
+  const std::vector<Eigen::Vector3d>& points;
+  const FitOptions& options;
+  const std::optional<Eigen::Hyperplane<double, 3>>& ground;
+  double max_size = 0.0;  // no size beyond this [m]
+
+  bool rests() const { return ground && options.resting_weight > 0; }
+
+  double prior(const Superquadric& s) const {
+    return options.resting_weight * std::sqrt(double(points.size())) * groundGap(s, *ground);
+  }
+
+  Row priorRow(const Superquadric& s) const {
+    Row j;
+    for (int i = 0; i < kParams; ++i) {
+      Vector d = Vector::Zero();
+      d(i) = 1e-6;
+      j(i) = (prior(applyStep(s, d, max_size)) - prior(applyStep(s, -d, max_size))) / 2e-6;
+    }
+    return j;
+  }
+
+  double cost(const Superquadric& s, const std::vector<double>& w) const {
+    return weightedCost(s, points, w, options.residual) + (rests() ? std::pow(prior(s), 2) : 0.0);
+  }
+
+  // Gauss-Newton's h = J'WJ and g = J'Wr at s, and the weights it used.
+  std::vector<double> linearize(const Superquadric& s, Matrix& h, Vector& g) const {
+    std::vector<double> r(points.size());
+    std::vector<Row> jacobian(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      r[i] = residual(s, points[i], options.residual, &jacobian[i]);
+    const auto w = weightsFor(r, options);
+    h.setZero(), g.setZero();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      h.noalias() += w[i] * jacobian[i].transpose() * jacobian[i];
+      g.noalias() += w[i] * jacobian[i].transpose() * r[i];
+    }
+    if (rests()) {
+      const Row j = priorRow(s);
+      h.noalias() += j.transpose() * j;
+      g.noalias() += j.transpose() * prior(s);
+    }
+    return w;
+  }
+};
+
+void checkPoints(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < std::size_t(kParams))
     throw std::invalid_argument("superquadric fit: " + std::to_string(points.size()) +
                                 " points, at least 11 needed");
   for (const auto& p : points)
     if (!p.allFinite()) throw std::invalid_argument("superquadric fit: a point is not finite");
+}
+
+double largestSize(const std::vector<Eigen::Vector3d>& points, const FitOptions& o) {
   Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
   for (const auto& p : points) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
-  const double max_size = std::max(kSizeMin, o.max_size_ratio * 0.5 * (hi - lo).maxCoeff());
-  SuperquadricFit fit;
-  // The robust fit starts from the moments of the points' densest 75 %.
-  fit.shape = momentEllipsoid(o.robust ? trimmedCore(points, 0.75) : points);
-  fit.shape.size = fit.shape.size.cwiseMin(max_size);
+  return std::max(kSizeMin, o.max_size_ratio * 0.5 * (hi - lo).maxCoeff());
+}
+
+// Levenberg-Marquardt from fit.shape.
+void refine(const Problem& problem, SuperquadricFit& fit) {
   double lambda = 1e-3;
-  std::vector<double> r(points.size());
-  for (fit.iterations = 0; fit.iterations < o.max_iterations; ++fit.iterations) {
-    Matrix h = Matrix::Zero();
-    Vector g = Vector::Zero();
-    std::vector<Row> jacobian(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-      r[i] = residual(fit.shape, points[i], o.residual, &jacobian[i]);
-    const auto w = weightsFor(r, o);
-    double cost = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      h.noalias() += w[i] * jacobian[i].transpose() * jacobian[i];
-      g.noalias() += w[i] * jacobian[i].transpose() * r[i];
-      cost += w[i] * r[i] * r[i];
-    }
+  Matrix h;
+  Vector g;
+  for (fit.iterations = 0; fit.iterations < problem.options.max_iterations; ++fit.iterations) {
+    const auto w = problem.linearize(fit.shape, h, g);
+    const double cost = problem.cost(fit.shape, w);
     bool improved = false;
     double new_cost = cost;
     while (!improved && lambda < 1e12) {
       Matrix damped = h;
       damped.diagonal() += lambda * h.diagonal().cwiseMax(1e-12);
-      const Vector step = damped.ldlt().solve(-g);
-      const Superquadric candidate = applyStep(fit.shape, step, max_size);
-      new_cost = weightedCost(candidate, points, w, o.residual);
+      const Superquadric candidate =
+          applyStep(fit.shape, damped.ldlt().solve(-g), problem.max_size);
+      new_cost = problem.cost(candidate, w);
       if (std::isfinite(new_cost) && new_cost < cost) {
         fit.shape = candidate;
         lambda = std::max(lambda / 3, 1e-9);
@@ -239,12 +291,16 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
         lambda *= 4;
       }
     }
-    if (!improved || cost - new_cost < o.tolerance * cost) {
+    if (!improved || cost - new_cost < problem.options.tolerance * cost) {
       fit.converged = true;
-      break;
+      return;
     }
   }
-  // Quality over the points that count.
+}
+
+// rms_m and inlier_share over the points of weight >= 0.5.
+void assess(const std::vector<Eigen::Vector3d>& points, const FitOptions& o, SuperquadricFit& fit) {
+  std::vector<double> r(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     r[i] = residual(fit.shape, points[i], o.residual, nullptr);
   const auto w = weightsFor(r, o);
@@ -255,6 +311,21 @@ SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, cons
       sum += std::pow(residual(fit.shape, points[i], FitResidual::kRadial, nullptr), 2), ++kept;
   fit.rms_m = kept ? std::sqrt(sum / kept) : 0.0;
   fit.inlier_share = double(kept) / double(points.size());
+}
+
+}  // namespace
+
+SuperquadricFit fitSuperquadric(const std::vector<Eigen::Vector3d>& points, const FitOptions& o,
+                                const std::optional<Eigen::Hyperplane<double, 3>>& ground) {
+  validate(o);
+  checkPoints(points);
+  const Problem problem{points, o, ground, largestSize(points, o)};
+  SuperquadricFit fit;
+  // The robust fit starts from the moments of the points' densest 75 %.
+  fit.shape = momentEllipsoid(o.robust ? trimmedCore(points, 0.75) : points);
+  fit.shape.size = fit.shape.size.cwiseMin(problem.max_size);
+  refine(problem, fit);
+  assess(points, o, fit);
   return fit;
 }
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "sampling/RockSampler.h"
@@ -41,20 +42,24 @@ void BM_FitSuperquadric(benchmark::State& state) {
   options.robust = state.range(0) != 0;
   options.residual =
       state.range(1) != 0 ? sampling::FitResidual::kSolina : sampling::FitResidual::kRadial;
+  // The sand where the points end, for the prior that the rock rests on it.
+  std::optional<Eigen::Hyperplane<double, 3>> sand;
+  if (state.range(2) != 0) sand = Eigen::Hyperplane<double, 3>(Eigen::Vector3d::UnitZ(), 0.0);
   int iterations = 0;
   for (auto _ : state) {
-    const auto fit = sampling::fitSuperquadric(points, options);
+    const auto fit = sampling::fitSuperquadric(points, options, sand);
     iterations = fit.iterations;
     benchmark::DoNotOptimize(fit);
   }
   state.counters["points"] = double(points.size());
   state.counters["lm_iterations"] = iterations;
 }
-// {robust, Solina's residual}
+// {robust, Solina's residual, resting prior}
 BENCHMARK(BM_FitSuperquadric)
-    ->Args({0, 0})
-    ->Args({1, 0})
-    ->Args({0, 1})
+    ->Args({0, 0, 0})
+    ->Args({1, 0, 0})
+    ->Args({1, 0, 1})
+    ->Args({0, 1, 0})
     ->Unit(benchmark::kMillisecond);
 
 const sim::StriperScene& scene() {

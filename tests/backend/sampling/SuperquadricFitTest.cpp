@@ -54,6 +54,33 @@ TEST(SuperquadricFit, TheInsideOutsideFunctionIsOneOnTheSurface) {
   for (const auto& p : surface(s, -M_PI / 2, 0.0)) EXPECT_NEAR(s.insideOutside(p), 1.0, 1e-9);
 }
 
+// The support function against the farthest of a dense sample of the
+// surface, and the ellipsoid's closed form.
+TEST(Superquadric, ReachIsTheFarthestSurfacePointAlongADirection) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (const auto& [eps1, eps2] : {std::pair{0.6, 0.8}, {0.2, 0.3}, {1.0, 1.0}, {1.8, 1.5}}) {
+    Superquadric s = rock();
+    s.eps1 = eps1, s.eps2 = eps2;
+    for (int trial = 0; trial < 20; ++trial) {
+      const Eigen::Vector3d d = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+      double farthest = 0;
+      for (int i = 0; i <= 200; ++i)
+        for (int k = 0; k < 400; ++k) {
+          const Eigen::Vector3d p =
+              s.surfacePoint(-M_PI / 2 + M_PI * i / 200, -M_PI + M_PI * k / 200);
+          farthest = std::max(farthest, d.dot(p - s.pose.translation()));
+        }
+      EXPECT_GE(s.reach(d), farthest - 1e-9) << eps1 << " " << eps2;
+      EXPECT_NEAR(s.reach(d), farthest, 2e-3 * s.size.maxCoeff()) << eps1 << " " << eps2;
+      if (eps1 == 1.0 && eps2 == 1.0) {
+        const Eigen::Vector3d u = s.pose.linear().transpose() * d;
+        EXPECT_NEAR(s.reach(d), s.size.cwiseProduct(u).norm(), 1e-12);
+      }
+    }
+  }
+}
+
 TEST(SuperquadricFit, RecoversAWholeSuperquadricWithEitherResidual) {
   const auto truth = rock();
   FitOptions solina;
