@@ -330,7 +330,7 @@ QString SamplingPanel::describeSample() const {
   const auto& q = s.fit.shape;
   const Eigen::Vector3d c = q.pose.translation();
   QString text =
-      tr("<b>Superquadric</b> (%1 LM on the radial distance, %2 points, %3 ms)<br>"
+      tr("<b>Superquadric</b> (%1 LM on the radial distance%14, %2 points, %3 ms)<br>"
          "centre x %4, y %5, z %6 m<br>size %7 x %8 x %9 cm, roundness eps1 %10, eps2 %11<br>"
          "fit residual %12 mm rms, %13 % of the points kept")
           .arg(robust_->isChecked() ? tr("robust") : tr("plain"))
@@ -345,7 +345,8 @@ QString SamplingPanel::describeSample() const {
           .arg(q.eps1, 0, 'f', 2)
           .arg(q.eps2, 0, 'f', 2)
           .arg(s.fit.rms_m * 1000, 0, 'f', 2)
-          .arg(s.fit.inlier_share * 100, 0, 'f', 0);
+          .arg(s.fit.inlier_share * 100, 0, 'f', 0)
+          .arg(s.sand ? tr(", resting on the sand plane") : QString());
   if (s.grasp.ok)
     text += tr("<br><b>Grasp</b> at x %1, y %2, jaws down to z %3 m, main axis %4°, opening %5 cm")
                 .arg(s.grasp.centre.x(), 0, 'f', 3)
