@@ -94,24 +94,26 @@ FreeMove bodyMoveKeepingALegFree(const Stance& stance, const Heading& heading,
   const auto& g = ctx.gait;
   FreeMove limit{
       maxBodyMove(stance, heading, ctx.model, g.csp_margin_m, uMax(heading, g), g.body_step_m)};
+  // With slack: execution and dead-reckoning errors of a few centimetres
+  // must not take the next leg's margin below the limit.
+  const double margin = g.csp_margin_m + g.execution_slack_m;
+  const auto canLift = [&](const Stance& s, int leg) {
+    return leg >= 0 && s.supporting[std::size_t(leg)] && marginWithout(s, ctx.model, leg) >= margin;
+  };
   // Prefer to stop where the leg that must recover next can lift; else
-  // where any leg can.
-  for (bool strict : {true, false})
-    for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
-      const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
-      // With slack: execution and dead-reckoning errors of a few
-      // centimetres must not take the next leg's margin below the limit.
-      const auto free = liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m);
-      const bool ok = strict ? std::find(free.begin(), free.end(),
-                                         nextToRecover(moved, heading, ctx.model)) != free.end()
-                             : !free.empty();
-      if (ok) {
-        limit.u = std::max(u, 0.0);
-        limit.next_can_lift = strict;
-        return limit;
-      }
+  // where any leg can (the farthest such move, found on the same pass).
+  std::optional<double> any_leg;
+  for (double u = limit.u; u > -1e-9; u -= g.body_step_m) {
+    const Stance moved = moveBody(stance, heading, std::max(u, 0.0));
+    if (canLift(moved, nextToRecover(moved, heading, ctx.model))) {
+      limit.u = std::max(u, 0.0);
+      limit.next_can_lift = true;
+      return limit;
     }
-  limit.u = -1.0;
+    for (int leg = 0; !any_leg && leg < kLegCount; ++leg)
+      if (canLift(moved, leg)) any_leg = std::max(u, 0.0);
+  }
+  limit.u = any_leg.value_or(-1.0);
   return limit;
 }
 

@@ -19,6 +19,7 @@ RayCaster::RayCaster(const Terrain& terrain, RayCasterOptions options)
                      std::min(extent_.y_min + (r + 1) * cell, extent_.y_max)};
       bin_max_[std::size_t(r) * cols_ + c] = terrain_.maxHeightIn(bin);
     }
+  top_ = *std::max_element(bin_max_.begin(), bin_max_.end());
 }
 
 double RayCaster::groundGap(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t) const {
@@ -41,6 +42,10 @@ std::optional<double> RayCaster::cast(const Eigen::Vector3d& o, const Eigen::Vec
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
+  // Nothing is hit above the terrain's top: a ray from high above starts
+  // just over it rather than crossing bin after bin of empty space.
+  const double above_top = top_ + 0.01;
+  if (d.z() < 0 && o.z() > above_top) t0 = std::max(t0, (above_top - o.z()) / d.z());
   if (t0 >= t1) return std::nullopt;
 
   // Walk the upper-bound bins the ray crosses (Amanatides-Woo).

@@ -39,6 +39,7 @@ class RayCaster {
   Box2 extent_;
   int cols_ = 0, rows_ = 0;
   std::vector<double> bin_max_;
+  double top_ = 0.0;  // the highest bin's bound [m]
 };
 
 }  // namespace ambler::sim
