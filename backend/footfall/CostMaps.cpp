@@ -56,8 +56,13 @@ void validate(const CostMapOptions& o) {
 
 double bodyAdvance(const Eigen::Vector2d& foot, const LegContext& leg, double reach_max,
                    double max_advance) {
-  const Eigen::Vector2d h(std::cos(leg.heading_rad), std::sin(leg.heading_rad));
-  const Eigen::Vector2d q = foot - leg.shaft;
+  return bodyAdvance(foot, leg.shaft, {std::cos(leg.heading_rad), std::sin(leg.heading_rad)},
+                     reach_max, max_advance);
+}
+
+double bodyAdvance(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
+                   const Eigen::Vector2d& h, double reach_max, double max_advance) {
+  const Eigen::Vector2d q = foot - shaft;
   const double along = q.dot(h), across2 = q.squaredNorm() - along * along;
   if (across2 > reach_max * reach_max) return 0.0;
   // The shaft moves to shaft + d h; the foot stays within reach while

@@ -68,6 +68,9 @@ CostMaps buildCostMaps(const terrain::ElevationMap& map, const Box2& region, con
 // before the foot leaves the leg's reach [m], capped at `max_advance`.
 double bodyAdvance(const Eigen::Vector2d& foot, const LegContext& leg, double reach_max,
                    double max_advance);
+// The same with the shaft's unit direction of motion given.
+double bodyAdvance(const Eigen::Vector2d& foot, const Eigen::Vector2d& shaft,
+                   const Eigen::Vector2d& direction, double reach_max, double max_advance);
 
 // Share of the segment from the shaft to the foot that lies inside the
 // scanner's horizontal field of view, in [0, 1] (exact: the view is a

@@ -70,13 +70,18 @@ double uMax(const Heading& heading, const GaitOptions& g) {
 int nextToRecover(const Stance& stance, const Heading& heading, const RoverModel& m) {
   int worst = -1;
   double least = INFINITY;
+  // Called for every sampled body move of every candidate: one rotation,
+  // and unit directions without an angle in between.
+  const Eigen::Matrix2d rotation = stance.body.rotation();
   for (int i = 0; i < kLegCount; ++i) {
     if (!stance.supporting[std::size_t(i)]) continue;
-    footfall::LegContext lc;
-    lc.shaft = stance.body.toWorld(m.shaftOf(i));
-    lc.heading_rad = headingAngle(stance.body, heading.motionAt(m.shaftOf(i)));
-    const double left =
-        footfall::bodyAdvance(stance.feet[std::size_t(i)].head<2>(), lc, m.extension_max_m, 10.0);
+    const Eigen::Vector2d shaft = stance.body.xy + rotation * m.shaftOf(i);
+    const Eigen::Vector2d motion = rotation * heading.motionAt(m.shaftOf(i));
+    const double norm = motion.norm();
+    const Eigen::Vector2d direction =
+        norm > 0 ? Eigen::Vector2d(motion / norm) : Eigen::Vector2d::UnitX();
+    const double left = footfall::bodyAdvance(stance.feet[std::size_t(i)].head<2>(), shaft,
+                                              direction, m.extension_max_m, 10.0);
     if (left < least) least = left, worst = i;
   }
   return worst;

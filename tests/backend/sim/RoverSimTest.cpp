@@ -158,7 +158,9 @@ TEST(RoverSim, FootLoadsCarryTheWeightWithNoMoment) {
     double sum = 0;
     Eigen::Vector2d moment(0, 0);
     for (int i = 0; i < gait::kLegCount; ++i) {
-      if (!stance.supporting[std::size_t(i)]) EXPECT_EQ(f[std::size_t(i)], 0.0) << i;
+      if (!stance.supporting[std::size_t(i)]) {
+        EXPECT_EQ(f[std::size_t(i)], 0.0) << i;
+      }
       sum += f[std::size_t(i)];
       moment += f[std::size_t(i)] * (stance.feet[std::size_t(i)].head<2>() - cog);
     }
