@@ -18,9 +18,12 @@ void addWalk(CLI::App& app);
 void addLog(CLI::App& app);
 void addDrive(CLI::App& app);
 void addFitRock(CLI::App& app);
-// `eval link` and `eval rocks`, under the `eval` subcommand.
+void addMesh(CLI::App& app);
+void addPath(CLI::App& app);
+// `eval link`, `eval rocks` and `eval mapping`, under the `eval` subcommand.
 void addEvalLink(CLI::App& eval);
 void addEvalRocks(CLI::App& eval);
+void addEvalMapping(CLI::App& eval);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

@@ -158,6 +158,7 @@ void addEval(CLI::App& app) {
   cmd->callback([args] { runEvalElevation(*args); });
   addEvalLink(*eval);
   addEvalRocks(*eval);
+  addEvalMapping(*eval);
 }
 
 }  // namespace ambler::cli

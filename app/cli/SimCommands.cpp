@@ -6,6 +6,7 @@
 #include "core/Resources.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
+#include "mapping/MappingFiles.h"
 #include "sensor/RangeImageFile.h"
 #include "sensor/StriperImageFile.h"
 #include "sim/CourseScene.h"
@@ -73,9 +74,16 @@ void runSimScan(const SimScanArgs& a) {
   const std::filesystem::path dir(a.out);
   std::filesystem::create_directories(dir);
   sensor::writeRangeImage(scan, dir / "scan.tif");
+  // The same returns as a point cloud in the world frame (for mesh, path).
+  mapping::Cloud cloud;
+  for (int r = 0; r < scan.rows(); ++r)
+    for (int c = 0; c < scan.cols(); ++c)
+      if (scan.hasReturn(r, c)) cloud.push_back(scan.pointInWorld(r, c));
+  mapping::writeCloud(dir / "cloud.pcd", cloud);
   writeTruth(truth, dir);
   printJson(
       {{"scan", (dir / "scan.tif").string()},
+       {"cloud", (dir / "cloud.pcd").string()},
        {"rows", scan.rows()},
        {"cols", scan.cols()},
        {"returns", scan.returnCount()},

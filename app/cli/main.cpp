@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   ambler::cli::addLog(app);
   ambler::cli::addDrive(app);
   ambler::cli::addFitRock(app);
+  ambler::cli::addMesh(app);
+  ambler::cli::addPath(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,6 +1,8 @@
 // Runs the real ambler-cli binary, as a user or script would.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <sys/wait.h>
 #include <unistd.h>
 #include <array>
@@ -103,6 +105,27 @@ TEST(Cli, FitRockFitsTheTraysRocksAndRefusesABadSeed) {
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.out.find("seed (2, 2)"), std::string::npos) << bad.out;
   EXPECT_EQ(runCli("fit-rock --striper " + striper).exit_code, 1);
+}
+
+// A simulated scan's cloud, meshed, and a path across it: the path stays
+// on the mesh and its simplification keeps within 5 % of the raw cost.
+TEST(Cli, MeshAndPathOverASimulatedScan) {
+  TempDir dir;
+  const auto scan = (dir / "scan").string();
+  ASSERT_EQ(runCli("sim-scan --seed 1 --out " + scan).exit_code, 0);
+  const auto mesh = runCli("mesh --cloud " + scan + "/cloud.pcd --out " + scan + "/mesh.ply");
+  ASSERT_EQ(mesh.exit_code, 0) << mesh.out;
+  EXPECT_GT(nlohmann::json::parse(mesh.out)["mesh_triangles"].get<int>(), 100);
+  const auto run = runCli("path --mesh " + scan + "/mesh.ply --from 0,7 --to 1,17 --cost slope");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  EXPECT_GE(out["path_len_m"].get<double>(), std::hypot(1.0, 10.0) - 1e-6);
+  EXPECT_LT(out["waypoints"].size(), out["raw_waypoints"].get<std::size_t>());
+  EXPECT_LE(out["cost_value"].get<double>(), 1.05 * out["raw_cost_value"].get<double>());
+  const auto off = runCli("path --mesh " + scan + "/mesh.ply --from 0,7 --to 1,40");
+  EXPECT_EQ(off.exit_code, 1);
+  EXPECT_NE(off.out.find("the goal is not on the mesh"), std::string::npos) << off.out;
+  EXPECT_EQ(runCli("mesh --cloud " + scan + "/missing.pcd --out " + scan + "/m.ply").exit_code, 1);
 }
 
 // eval rocks on two trays: the figures the issue asks for, per method.

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <functional>
 
+#include <filesystem>
+
+#include "io/FormatError.h"
+#include "mapping/MappingFiles.h"
 #include "mapping/TerrainMesh.h"
 #include "mapping/TerrainPath.h"
 
@@ -48,7 +52,7 @@ TEST(TerrainMesh, RoughGroundGetsSmallTrianglesAndStaysWithinTolerance) {
   const Height bumpy = [](double x, double y) {
     return std::exp(-(std::pow(x - 7.5, 2) + std::pow(y - 7.5, 2)) / 0.8);
   };
-  const MeshOptions options;
+  const MeshOptions options{.tolerance_m = 0.02, .min_cell_m = 0.1};
   const auto mesh = triangulate(sampled(bumpy, 0, 0, 10, 10), options);
   double rough_area = 0, flat_area = 0;
   int rough = 0, flat = 0;
@@ -161,6 +165,34 @@ TEST(TerrainPath, SaysWhyThereIsNoPath) {
   PathOptions bad;
   bad.max_slope_deg = 95;
   EXPECT_THROW(planPath(mesh, {2, 5}, {18, 5}, bad), std::invalid_argument);
+}
+
+TEST(MappingFiles, MeshesAndCloudsSurviveTheirFiles) {
+  const auto dir = std::filesystem::temp_directory_path() / "ambler_mapping_files_test";
+  std::filesystem::create_directories(dir);
+  const auto points = sampled(cone, 0, 0, 20, 10, 0.5);
+  writeCloud(dir / "cloud.pcd", points);
+  const auto cloud = readCloud(dir / "cloud.pcd");
+  ASSERT_EQ(cloud.size(), points.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LT((cloud[i] - points[i]).norm(), 1e-5);
+  const auto mesh = triangulate(cloud);
+  writeMesh(dir / "mesh.ply", mesh);
+  const auto back = readMesh(dir / "mesh.ply");
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  EXPECT_EQ(back.neighbours, mesh.neighbours);
+  ASSERT_EQ(back.vertices.size(), mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    EXPECT_LT((back.vertices[i] - mesh.vertices[i]).norm(), 1e-5);
+  // A truncated PLY and a missing PCD are named.
+  std::filesystem::resize_file(dir / "mesh.ply", 40);
+  EXPECT_THROW(readMesh(dir / "mesh.ply"), io::FormatError);
+  try {
+    readCloud(dir / "missing.pcd");
+    ADD_FAILURE();
+  } catch (const io::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.pcd"), std::string::npos);
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

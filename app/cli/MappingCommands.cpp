@@ -1,0 +1,222 @@
+// `eval mapping`: registration of simulated scans from different
+// viewpoints and global localization in a coarse model (bakambu-csa §2),
+// against the simulator's poses. `mesh` and `path`: the triangulated
+// terrain of a cloud and a path over it (§3-4).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "cli/Arguments.h"
+#include "cli/Commands.h"
+#include "core/Resources.h"
+#include "mapping/MappingFiles.h"
+#include "mapping/Registration.h"
+#include "mapping/TerrainPath.h"
+#include "sim/CourseScene.h"
+
+namespace ambler::cli {
+
+namespace {
+
+struct View {
+  mapping::Cloud points;  // in the sensor's frame
+  Eigen::Isometry3d pose;
+};
+
+View viewFrom(const sim::ScannerModel& model, std::uint64_t seed, const Eigen::Vector2d& xy,
+              double heading) {
+  const sim::CourseScene scene(seed, model, xy, heading);
+  const auto image = scene.scan(seed * 7 + 1);
+  View v{{}, image.sensor_to_world};
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.cols(); ++c)
+      if (image.hasReturn(r, c)) v.points.push_back(image.pointInSensor(r, c));
+  return v;
+}
+
+double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180 / M_PI;
+}
+
+nlohmann::json summary(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const auto at = [&](double q) {
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
+  };
+  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", v.back()}};
+}
+
+// The course's terrain every metre over a square around the origin, in the
+// world frame: the coarse model (as from orbital altimetry).
+mapping::Cloud coarseModel(std::uint64_t seed, double half_size) {
+  const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")));
+  mapping::Cloud model;
+  for (double y = -half_size; y <= half_size; y += 1.0)
+    for (double x = -half_size; x <= half_size; x += 1.0)
+      if (const double z = scene.terrain().height(x, y); std::isfinite(z))
+        model.push_back({x, y, z});
+  return model;
+}
+
+struct EvalMappingArgs {
+  std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  bool json = true;  // the only output form
+};
+
+void runEvalMapping(const EvalMappingArgs& args) {
+  const auto model = sim::readScannerModel(findResource("config/scanner.json"));
+  std::vector<double> trans_pct, rot_deg, icp_ms, global_s, global_err_m;
+  int global_ok = 0;
+  for (const auto seed : args.seeds) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    // A second view 1.5-3.5 m on, up to 0.5 m aside, turned up to 10 deg;
+    // dead reckoning off by 10 % of the move and 2 degrees.
+    const View a = viewFrom(model, seed, {0, 0}, 0);
+    const View b = viewFrom(model, seed, {0.5 * u(rng), 2.5 + u(rng)}, 10 * M_PI / 180 * u(rng));
+    const Eigen::Isometry3d truth = a.pose.inverse() * b.pose;
+    const double travelled = (b.pose.translation() - a.pose.translation()).norm();
+    const Eigen::Vector3d drift = Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)).normalized();
+    const Eigen::Isometry3d dead_reckoned =
+        Eigen::Translation3d(0.1 * travelled * drift) * truth *
+        Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d(u(rng), u(rng), 1).normalized());
+    auto start = std::chrono::steady_clock::now();
+    const auto r = mapping::registerIcp(b.points, a.points, dead_reckoned);
+    icp_ms.push_back(millisecondsSince(start));
+    trans_pct.push_back(100 * (r.transform.translation() - truth.translation()).norm() / travelled);
+    rot_deg.push_back(angleDeg(r.transform.linear(), truth.linear()));
+    // Global: view a, without a prior, into the coarse model of the course.
+    const auto coarse = coarseModel(seed, 25.0);
+    start = std::chrono::steady_clock::now();
+    const auto g = mapping::localize(a.points, coarse);
+    global_s.push_back(millisecondsSince(start) / 1000);
+    const double err = (g.transform.translation() - a.pose.translation()).norm();
+    global_err_m.push_back(err);
+    global_ok += g.converged && err < 0.5 && angleDeg(g.transform.linear(), a.pose.linear()) < 2.0;
+  }
+  printJson({{"cases", args.seeds.size()},
+             {"icp_trans_err_pct_of_distance", summary(trans_pct)},
+             {"icp_rot_err_deg", summary(rot_deg)},
+             {"icp_ms", summary(icp_ms)},
+             {"global_loc_success_rate", double(global_ok) / double(args.seeds.size())},
+             {"global_loc_success_rule", "within 0.5 m and 2 deg of the true pose"},
+             {"global_loc_err_m", summary(global_err_m)},
+             {"global_loc_s", summary(global_s)}});
+}
+
+struct MeshArgs {
+  std::string cloud, out;
+  mapping::MeshOptions options;
+  bool json = true;  // the only output form
+};
+
+void runMesh(const MeshArgs& args) {
+  const auto cloud = mapping::readCloud(args.cloud);
+  const auto start = std::chrono::steady_clock::now();
+  const auto mesh = mapping::triangulate(cloud, args.options);
+  const double ms = millisecondsSince(start);
+  mapping::writeMesh(args.out, mesh);
+  double smallest = INFINITY, largest = 0;
+  for (int t = 0; t < int(mesh.size()); ++t)
+    smallest = std::min(smallest, mesh.areaXY(t)), largest = std::max(largest, mesh.areaXY(t));
+  printJson({{"cloud", args.cloud},
+             {"points", cloud.size()},
+             {"mesh", args.out},
+             {"vertices", mesh.vertices.size()},
+             {"mesh_triangles", mesh.size()},
+             {"triangle_area_m2", {{"min", smallest}, {"max", largest}}},
+             {"ms", ms}});
+}
+
+struct PathArgs {
+  std::string mesh, from, to, cost = "slope";
+  mapping::PathOptions options;
+  bool json = true;  // the only output form
+};
+
+nlohmann::json toJson(const std::vector<Eigen::Vector3d>& points) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : points) out.push_back({p.x(), p.y(), p.z()});
+  return out;
+}
+
+void runPath(const PathArgs& args) {
+  const auto mesh = mapping::readMesh(args.mesh);
+  auto options = args.options;
+  options.cost = args.cost == "distance"     ? mapping::PathCost::kDistance
+                 : args.cost == "highground" ? mapping::PathCost::kHighGround
+                                             : mapping::PathCost::kSlope;
+  const auto from = parseNumbers(args.from, 2, "--from", "X,Y");
+  const auto to = parseNumbers(args.to, 2, "--to", "X,Y");
+  const auto start = std::chrono::steady_clock::now();
+  const auto path = mapping::planPath(mesh, {from[0], from[1]}, {to[0], to[1]}, options);
+  const double ms = millisecondsSince(start);
+  if (!path.found) throw std::runtime_error("no path: " + path.reason);
+  printJson({{"mesh", args.mesh},
+             {"cost", args.cost},
+             {"max_slope_deg", options.max_slope_deg},
+             {"triangles", path.triangles.size()},
+             {"waypoints", toJson(path.simplified)},
+             {"raw_waypoints", path.raw.size()},
+             {"path_len_m", path.length_m},
+             {"cost_value", path.simplified_cost},
+             {"raw_cost_value", path.raw_cost},
+             {"path_ms", ms}});
+}
+
+}  // namespace
+
+void addMesh(CLI::App& app) {
+  auto args = std::make_shared<MeshArgs>();
+  auto* cmd = app.add_subcommand(
+      "mesh", "Irregular triangulated terrain of a point cloud (few triangles where flat)");
+  cmd->add_option("--cloud", args->cloud, "point cloud (.pcd, x y z in metres)")->required();
+  cmd->add_option("--out", args->out, "mesh to write (.ply)")->required();
+  cmd->add_option("--tolerance", args->options.tolerance_m,
+                  "largest height error of a flat square's two triangles [m]")
+      ->check(CLI::Range(1e-4, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--min-cell", args->options.min_cell_m, "smallest square [m]")
+      ->check(CLI::Range(1e-3, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--max-cell", args->options.max_cell_m, "largest square [m]")
+      ->check(CLI::Range(1e-3, 1000.0))
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runMesh(*args); });
+}
+
+void addPath(CLI::App& app) {
+  auto args = std::make_shared<PathArgs>();
+  auto* cmd = app.add_subcommand(
+      "path", "Path over a triangulated terrain: Dijkstra on the triangle graph, simplified");
+  cmd->add_option("--mesh", args->mesh, "mesh (.ply, from ambler-cli mesh)")->required();
+  cmd->add_option("--from", args->from, "start X,Y [m]")->required();
+  cmd->add_option("--to", args->to, "goal X,Y [m]")->required();
+  cmd->add_option("--cost", args->cost, "edge cost")
+      ->check(CLI::IsMember({"distance", "slope", "highground"}))
+      ->capture_default_str();
+  cmd->add_option("--max-slope-deg", args->options.max_slope_deg,
+                  "triangles steeper than this are not entered [deg]")
+      ->check(CLI::Range(0.1, 89.9))
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runPath(*args); });
+}
+
+void addEvalMapping(CLI::App& eval) {
+  auto args = std::make_shared<EvalMappingArgs>();
+  auto* cmd = eval.add_subcommand(
+      "mapping",
+      "Registration of simulated scans from two viewpoints (ICP from dead reckoning) and "
+      "global localization of a scan in a 1 m model, against the simulator's poses");
+  cmd->add_option("--seeds", args->seeds, "course seeds, one case each")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runEvalMapping(*args); });
+}
+
+}  // namespace ambler::cli

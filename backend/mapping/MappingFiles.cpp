@@ -1,0 +1,96 @@
+#include "mapping/MappingFiles.h"
+
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+#include <vtkCellArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPLYReader.h>
+#include <vtkPLYWriter.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <cmath>
+
+#include "io/FormatError.h"
+
+namespace ambler::mapping {
+
+namespace {
+
+void requireFile(const std::filesystem::path& path, const char* kind) {
+  if (!std::filesystem::is_regular_file(path))
+    throw io::FormatError(std::string(kind) + " '" + path.string() + "': file does not exist");
+}
+
+}  // namespace
+
+Cloud readCloud(const std::filesystem::path& pcd) {
+  requireFile(pcd, "PCD");
+  pcl::PointCloud<pcl::PointXYZ> xyz;
+  if (pcl::io::loadPCDFile(pcd.string(), xyz) < 0)
+    throw io::FormatError("PCD '" + pcd.string() + "': malformed, truncated or without x, y, z");
+  Cloud out;
+  for (const auto& p : xyz)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+      out.push_back(p.getVector3fMap().cast<double>());
+  return out;
+}
+
+void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud) {
+  pcl::PointCloud<pcl::PointXYZ> xyz;
+  for (const auto& p : cloud) xyz.push_back({float(p.x()), float(p.y()), float(p.z())});
+  if (xyz.empty() || pcl::io::savePCDFileBinary(pcd.string(), xyz) < 0)
+    throw io::FormatError("PCD '" + pcd.string() + "': cannot write " +
+                          std::to_string(cloud.size()) + " points there");
+}
+
+TerrainMesh readMesh(const std::filesystem::path& ply) {
+  requireFile(ply, "PLY");
+  vtkNew<vtkPLYReader> reader;
+  reader->SetFileName(ply.string().c_str());
+  reader->Update();
+  vtkPolyData* data = reader->GetOutput();
+  if (data == nullptr || data->GetNumberOfPoints() < 3 || data->GetNumberOfPolys() < 1)
+    throw io::FormatError("PLY '" + ply.string() + "': malformed, truncated or without triangles");
+  TerrainMesh mesh;
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i) {
+    double p[3];
+    data->GetPoint(i, p);
+    mesh.vertices.push_back({p[0], p[1], p[2]});
+    if (!mesh.vertices.back().allFinite())
+      throw io::FormatError("PLY '" + ply.string() + "': vertex " + std::to_string(i) +
+                            " is not finite");
+  }
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c) {
+    data->GetCellPoints(c, ids);
+    if (ids->GetNumberOfIds() != 3)
+      throw io::FormatError("PLY '" + ply.string() + "': face " + std::to_string(c) +
+                            " is not a triangle");
+    mesh.triangles.push_back({int(ids->GetId(0)), int(ids->GetId(1)), int(ids->GetId(2))});
+  }
+  connect(mesh);
+  return mesh;
+}
+
+void writeMesh(const std::filesystem::path& ply, const TerrainMesh& mesh) {
+  vtkNew<vtkPoints> points;
+  for (const auto& v : mesh.vertices) points->InsertNextPoint(v.x(), v.y(), v.z());
+  vtkNew<vtkCellArray> faces;
+  for (const auto& t : mesh.triangles) {
+    const vtkIdType ids[3] = {t[0], t[1], t[2]};
+    faces->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkPolyData> data;
+  data->SetPoints(points);
+  data->SetPolys(faces);
+  vtkNew<vtkPLYWriter> writer;
+  writer->SetFileName(ply.string().c_str());
+  writer->SetInputData(data);
+  writer->SetFileTypeToBinary();
+  if (writer->Write() != 1)
+    throw io::FormatError("PLY '" + ply.string() + "': cannot write the mesh there");
+}
+
+}  // namespace ambler::mapping
