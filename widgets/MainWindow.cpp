@@ -25,6 +25,7 @@
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
+#include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
 
@@ -40,6 +41,7 @@ MainWindow::MainWindow(QWidget* parent)
       approval_(new StepApprovalPanel),
       map_view_(new MapView),
       sampling_(new SamplingPanel),
+      mesh_panel_(new TerrainMeshPanel),
       views_(new QTabWidget),
       status_(new QLabel),
       link_status_(new QLabel),
@@ -52,6 +54,7 @@ MainWindow::MainWindow(QWidget* parent)
   views_->addTab(range_view_, tr("Range image"));
   views_->addTab(map_view_, tr("Terrain map"));
   views_->addTab(sampling_, tr("Rock sampling"));
+  views_->addTab(mesh_panel_, tr("Terrain mesh"));
   splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);
   splitter->setStretchFactor(0, 3);
@@ -202,6 +205,7 @@ void MainWindow::setSeed(quint64 seed) { seed_box_->setValue(int(seed)); }
 void MainWindow::showScan(const ScanDisplay& display) {
   range_view_->setImage(display.scan);
   terrain_view_->setScene(display);
+  mesh_panel_->setScan(display.scan);
   const auto t = display.scan.sensor_to_world.translation();
   setStatus(tr("Scan %1 x %2, %3 returns, sensor at (%4, %5, %6) m, simulated in %7 ms")
                 .arg(display.scan.rows())
@@ -217,6 +221,8 @@ void MainWindow::showScan(const ScanDisplay& display) {
 void MainWindow::showMapView() { views_->setCurrentWidget(map_view_); }
 
 void MainWindow::showSamplingView() { views_->setCurrentWidget(sampling_); }
+
+void MainWindow::showMeshView() { views_->setCurrentWidget(mesh_panel_); }
 
 void MainWindow::setLinkStatus(const QString& text, bool stale) {
   link_status_->setText(text);

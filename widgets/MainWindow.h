@@ -50,6 +50,10 @@ class MainWindow : public QMainWindow {
     return sampling_;
   }
   void showSamplingView();
+  class TerrainMeshPanel* meshPanel() const {
+    return mesh_panel_;
+  }
+  void showMeshView();
   TelemetryPanel* telemetry() const { return telemetry_; }
   CommandLogView* commandLog() const { return command_log_; }
   TimelineBar* timeline() const { return timeline_; }
@@ -87,6 +91,7 @@ class MainWindow : public QMainWindow {
   StepApprovalPanel* approval_;
   MapView* map_view_;
   class SamplingPanel* sampling_;
+  class TerrainMeshPanel* mesh_panel_;
   class QTabWidget* views_;
   QLabel* status_;
   QString status_text_;

@@ -12,6 +12,7 @@
 #include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
 #include <pcl/search/kdtree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -169,33 +170,56 @@ Registration registerIcp(const Cloud& source, const Cloud& target, const Eigen::
              prepare(target, o.voxel_m, o.normal_radius_m, "target"), initial, o);
 }
 
+namespace {
+
+using Features = pcl::PointCloud<pcl::FPFHSignature33>;
+
+// Interest points (the paper's curvature change): the points curving most,
+// the top share of them.
+Oriented::Ptr interestPoints(const Oriented::Ptr& cloud, double share) {
+  std::vector<float> curvature;
+  for (const auto& p : *cloud) curvature.push_back(p.curvature);
+  const auto k = std::size_t((1 - share) * double(curvature.size()));
+  std::nth_element(curvature.begin(), curvature.begin() + std::ptrdiff_t(k), curvature.end());
+  Oriented::Ptr out(new Oriented);
+  for (const auto& p : *cloud)
+    if (p.curvature >= curvature[k]) out->push_back(p);
+  return out;
+}
+
+// FPFH of `points`, from the neighbourhoods in `surface`.
+Features::Ptr describe(const Oriented::Ptr& points, const Oriented::Ptr& surface, double radius) {
+  pcl::FPFHEstimation<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> fpfh;
+  Features::Ptr out(new Features);
+  fpfh.setInputCloud(points);
+  fpfh.setSearchSurface(surface);
+  fpfh.setInputNormals(surface);
+  fpfh.setSearchMethod(
+      pcl::search::KdTree<pcl::PointNormal>::Ptr(new pcl::search::KdTree<pcl::PointNormal>));
+  fpfh.setRadiusSearch(radius);
+  fpfh.compute(*out);
+  return out;
+}
+
+}  // namespace
+
 Registration localize(const Cloud& scan, const Cloud& model, const GlobalOptions& o) {
   validate(o.refine);
   const auto source = prepare(scan, o.voxel_m, o.normal_radius_m, "scan");
   const auto target = prepare(model, o.voxel_m, o.normal_radius_m, "model");
-  using Features = pcl::PointCloud<pcl::FPFHSignature33>;
-  auto describe = [&](const Oriented::Ptr& cloud) {
-    pcl::FPFHEstimation<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> fpfh;
-    Features::Ptr out(new Features);
-    fpfh.setInputCloud(cloud);
-    fpfh.setInputNormals(cloud);
-    fpfh.setSearchMethod(
-        pcl::search::KdTree<pcl::PointNormal>::Ptr(new pcl::search::KdTree<pcl::PointNormal>));
-    fpfh.setRadiusSearch(o.feature_radius_m);
-    fpfh.compute(*out);
-    return out;
-  };
+  const auto source_keys = interestPoints(source, o.interest_share);
+  const auto target_keys = interestPoints(target, o.interest_share);
   pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> ransac;
-  ransac.setInputSource(source);
-  ransac.setSourceFeatures(describe(source));
-  ransac.setInputTarget(target);
-  ransac.setTargetFeatures(describe(target));
+  ransac.setInputSource(source_keys);
+  ransac.setSourceFeatures(describe(source_keys, source, o.feature_radius_m));
+  ransac.setInputTarget(target_keys);
+  ransac.setTargetFeatures(describe(target_keys, target, o.feature_radius_m));
   ransac.setMaximumIterations(o.ransac_iterations);
   ransac.setNumberOfSamples(3);
   ransac.setCorrespondenceRandomness(5);
-  ransac.setSimilarityThreshold(0.85f);
+  ransac.setSimilarityThreshold(0.8f);
   ransac.setMaxCorrespondenceDistance(float(o.inlier_distance_m));
-  ransac.setInlierFraction(0.25f);
+  ransac.setInlierFraction(float(o.inlier_share));
   Oriented aligned;
   ransac.align(aligned);
   if (!ransac.hasConverged()) return {};

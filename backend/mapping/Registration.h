@@ -49,6 +49,8 @@ struct GlobalOptions {
   double normal_radius_m = 1.5;
   int ransac_iterations = 20000;
   double inlier_distance_m = 0.75;  // RANSAC's inlier bound
+  double inlier_share = 0.25;       // of the interest points, for a pose to count
+  double interest_share = 0.2;      // the points curving most, matched by features
   IcpOptions refine{.voxel_m = 0.2,
                     .normal_radius_m = 1.5,
                     .max_distance_m = 1.5,

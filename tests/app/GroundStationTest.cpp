@@ -8,6 +8,7 @@
 #include <QApplication>
 #include <QChartView>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QFile>
@@ -33,6 +34,7 @@
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
+#include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
 
@@ -342,6 +344,36 @@ class GroundStationTest : public QObject {
         5000);
     const ambler::missionlog::MissionLogReader log(c.session().logPath());
     QCOMPARE(log.summary().to_rover.at("Grasp"), 1L);
+  }
+
+  // The last scan as a triangle mesh; two clicks plan a path that keeps off
+  // triangles beyond the slope limit, simplified within 5 % of its cost.
+  void meshPanelPlansAPathBetweenTwoClicks() {
+    Console c;
+    auto& w = c.station.window();
+    QSignalSpy scanned(&w, &ambler::widgets::MainWindow::scanShown);
+    emit w.scanRequested(1);
+    QVERIFY(scanned.wait(30000));
+    w.showMeshView();
+    auto& panel = *w.meshPanel();
+    QVERIFY(panel.mesh().size() > 100);
+    QTest::mouseClick(panel.meshView(), Qt::LeftButton, {},
+                      panel.viewPointOf({0.0, 7.0}).toPoint());
+    QVERIFY(panel.readout().contains("click the goal"));
+    QTest::mouseClick(panel.meshView(), Qt::LeftButton, {},
+                      panel.viewPointOf({1.0, 17.0}).toPoint());
+    QVERIFY2(panel.path() && panel.path()->found, qPrintable(panel.readout()));
+    const auto& path = *panel.path();
+    for (int t : path.triangles) QVERIFY(panel.mesh().slopeRad(t) <= 20 * M_PI / 180 + 1e-9);
+    QVERIFY(path.simplified.size() < path.raw.size());
+    QVERIFY(path.simplified_cost <= 1.05 * path.raw_cost);
+    QVERIFY((path.simplified.back().head<2>() - Eigen::Vector2d(1, 17)).norm() < 0.2);
+    const QString error = screenshot(&panel, "terrain-mesh.png");
+    QVERIFY2(error.isEmpty(), qPrintable(error));
+    // Another cost plans again.
+    panel.costBox()->setCurrentIndex(2);
+    QVERIFY(panel.path() && panel.path()->found);
+    QVERIFY(panel.readout().contains("Path:"));
   }
 
   // Screenshots of each main view into the build tree (docs/images keeps

@@ -1,0 +1,65 @@
+#pragma once
+
+#include <QWidget>
+#include <optional>
+
+#include "mapping/Registration.h"
+#include "mapping/TerrainMesh.h"
+#include "mapping/TerrainPath.h"
+#include "sensor/RangeImage.h"
+
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+
+namespace ambler::widgets {
+
+class MeshTopView;
+
+// bakambu-csa §3-4 for the operator: the last scan's ground as an
+// irregular triangle mesh seen from above, each triangle coloured by its
+// slope (red beyond the slope limit), and a path over it. The first click
+// sets the start, the second the goal and plans; the next click starts
+// again. The cost (distance, slope, high ground) and the slope limit can be
+// changed, and the path is planned again.
+class TerrainMeshPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit TerrainMeshPanel(QWidget* parent = nullptr);
+
+  // The scan's returns in the world frame; meshed when the panel is shown.
+  void setScan(const sensor::RangeImage& scan);
+  // Clicks in world coordinates [m], as the view passes them on.
+  void pick(const Eigen::Vector2d& world_xy);
+
+  // The mesh, built now if it was waiting for the panel to be shown.
+  const mapping::TerrainMesh& mesh();
+  const std::optional<mapping::TerrainPath>& path() const { return path_; }
+  QString readout() const;
+  QWidget* meshView() const;
+  // Where a world point is drawn in meshView() (for clicks in tests).
+  QPointF viewPointOf(const Eigen::Vector2d& world_xy) const;
+  QComboBox* costBox() const { return cost_; }
+
+ protected:
+  void showEvent(QShowEvent* e) override;
+
+ private:
+  void buildMesh();
+  void plan();
+  void refresh();
+
+  MeshTopView* view_;
+  QComboBox* cost_;
+  QDoubleSpinBox* max_slope_;
+  QLabel* readout_;
+  mapping::Cloud cloud_;
+  mapping::TerrainMesh mesh_;
+  double mesh_ms_ = 0.0;
+  std::optional<Eigen::Vector2d> start_, goal_;
+  std::optional<mapping::TerrainPath> path_;
+  double path_ms_ = 0.0;
+};
+
+}  // namespace ambler::widgets
