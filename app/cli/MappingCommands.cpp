@@ -90,7 +90,7 @@ void runEvalMapping(const EvalMappingArgs& args) {
     // Global: view a, without a prior, into the coarse model of the course.
     const auto coarse = coarseModel(seed, 25.0);
     start = std::chrono::steady_clock::now();
-    const auto g = mapping::localize(a.points, coarse);
+    const auto g = mapping::localize(a.points, mapping::withoutYaw(a.pose.linear()), coarse);
     global_s.push_back(millisecondsSince(start) / 1000);
     const double err = (g.transform.translation() - a.pose.translation()).norm();
     global_err_m.push_back(err);
