@@ -1,5 +1,6 @@
 #include "cli/Arguments.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -36,5 +37,14 @@ Box2 parseRegion(const std::string& text) {
 }
 
 void printJson(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
+
+nlohmann::json distribution(std::vector<double> values) {
+  if (values.empty()) return nullptr;
+  std::sort(values.begin(), values.end());
+  const auto at = [&](double q) {
+    return values[std::min(values.size() - 1, std::size_t(q * double(values.size())))];
+  };
+  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", values.back()}};
+}
 
 }  // namespace ambler::cli

@@ -22,6 +22,9 @@ inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// {"median", "p90", "max"} of the values; null when there are none.
+nlohmann::json distribution(std::vector<double> values);
+
 // Prints `value` as one JSON document on stdout.
 void printJson(const nlohmann::json& value);
 

@@ -40,14 +40,6 @@ double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180 / M_PI;
 }
 
-nlohmann::json summary(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) {
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
-  };
-  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", v.back()}};
-}
-
 // The course's terrain every metre over a square around the origin, in the
 // world frame: the coarse model (as from orbital altimetry).
 mapping::Cloud coarseModel(std::uint64_t seed, double half_size) {
@@ -97,13 +89,13 @@ void runEvalMapping(const EvalMappingArgs& args) {
     global_ok += err < 0.5 && angleDeg(g.transform.linear(), a.pose.linear()) < 2.0;
   }
   printJson({{"cases", args.seeds.size()},
-             {"icp_trans_err_pct_of_distance", summary(trans_pct)},
-             {"icp_rot_err_deg", summary(rot_deg)},
-             {"icp_ms", summary(icp_ms)},
+             {"icp_trans_err_pct_of_distance", distribution(trans_pct)},
+             {"icp_rot_err_deg", distribution(rot_deg)},
+             {"icp_ms", distribution(icp_ms)},
              {"global_loc_success_rate", double(global_ok) / double(args.seeds.size())},
              {"global_loc_success_rule", "within 0.5 m and 2 deg of the true pose"},
-             {"global_loc_err_m", summary(global_err_m)},
-             {"global_loc_s", summary(global_s)}});
+             {"global_loc_err_m", distribution(global_err_m)},
+             {"global_loc_s", distribution(global_s)}});
 }
 
 struct MeshArgs {

@@ -46,15 +46,6 @@ void record(Errors& e, const sampling::SuperquadricFit& fit, double ms, const Su
   e.ms.push_back(ms);
 }
 
-nlohmann::json summary(std::vector<double> v) {
-  if (v.empty()) return nullptr;
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) {
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
-  };
-  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", v.back()}};
-}
-
 // The share of fits within the bounds: centre within 5 mm and
 // every size within 10 %.
 double withinBounds(const Errors& e) {
@@ -66,10 +57,10 @@ double withinBounds(const Errors& e) {
 
 nlohmann::json toJson(const Errors& e) {
   return {{"within_5mm_10pct", withinBounds(e)},
-          {"size_err_pct", summary(e.size_pct)},
-          {"center_err_mm", summary(e.center_mm)},
-          {"eps_err", summary(e.eps)},
-          {"ms_per_fit", summary(e.ms)["median"]}};
+          {"size_err_pct", distribution(e.size_pct)},
+          {"center_err_mm", distribution(e.center_mm)},
+          {"eps_err", distribution(e.eps)},
+          {"ms_per_fit", distribution(e.ms)["median"]}};
 }
 
 // Where an operator would click: the rock's centroid, or the rock pixel
@@ -185,7 +176,7 @@ void runEvalRocks(const EvalRocksArgs& args) {
         {"rocks", c.rocks},
         {"auto_seed_recall", c.rocks ? double(c.seeded) / c.rocks : 0.0},
         {"auto_seed_precision", c.seeds ? 1.0 - double(c.false_seeds) / c.seeds : 0.0},
-        {"contour_iou", summary(c.iou)}};
+        {"contour_iou", distribution(c.iou)}};
     std::sort(c.iou.begin(), c.iou.end());
     condition["contour_iou"]["min"] = c.iou.empty() ? 0.0 : c.iou.front();
     for (const auto& [method, e] : c.methods) {

@@ -70,6 +70,12 @@ struct Console {
     station.window().show();
   }
   void start(int steps) { station.startWalk(steps); }
+  // Asks for a scan as the toolbar does; whether it was shown.
+  bool scan(int seed) {
+    QSignalSpy scanned(&station.window(), &ambler::widgets::MainWindow::scanShown);
+    emit station.window().scanRequested(quint64(seed));
+    return scanned.wait(30000);
+  }
   WalkSession& session() { return *station.session(); }
   void click(const Eigen::Vector2d& world) {
     QTest::mouseClick(&map, Qt::LeftButton, {}, map.widgetPointOf(world).toPoint());
@@ -351,9 +357,7 @@ class GroundStationTest : public QObject {
   void meshPanelPlansAPathBetweenTwoClicks() {
     Console c;
     auto& w = c.station.window();
-    QSignalSpy scanned(&w, &ambler::widgets::MainWindow::scanShown);
-    emit w.scanRequested(1);
-    QVERIFY(scanned.wait(30000));
+    QVERIFY(c.scan(1));
     w.showMeshView();
     auto& panel = *w.meshPanel();
     QVERIFY(panel.mesh().size() > 100);
@@ -381,9 +385,7 @@ class GroundStationTest : public QObject {
   void screenshotsOfEachMainView() {
     Console c;
     auto& w = c.station.window();
-    QSignalSpy scanned(&w, &ambler::widgets::MainWindow::scanShown);
-    emit w.scanRequested(1);
-    QVERIFY(scanned.wait(30000));
+    QVERIFY(c.scan(1));
     auto save = [&](QWidget* widget, const QString& name) {
       const QString error = screenshot(widget, name);
       QVERIFY2(error.isEmpty(), qPrintable(error));
