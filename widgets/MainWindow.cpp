@@ -55,6 +55,9 @@ MainWindow::MainWindow(QWidget* parent)
   views_->addTab(map_view_, tr("Terrain map"));
   views_->addTab(sampling_, tr("Rock sampling"));
   views_->addTab(mesh_panel_, tr("Terrain mesh"));
+  connect(mesh_panel_, &TerrainMeshPanel::overlayChanged, this, [this] {
+    terrain_view_->setMeshOverlay(mesh_panel_->outlines(), mesh_panel_->pathPoints());
+  });
   splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);
   splitter->setStretchFactor(0, 3);

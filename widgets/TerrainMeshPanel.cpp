@@ -159,8 +159,10 @@ void TerrainMeshPanel::setScan(const sensor::RangeImage& scan) {
   for (int r = 0; r < scan.rows(); ++r)
     for (int c = 0; c < scan.cols(); ++c)
       if (scan.hasReturn(r, c)) cloud_.push_back(scan.pointInWorld(r, c));
+  const bool had_overlay = mesh_.size() > 0;
   mesh_ = {};
   start_.reset(), goal_.reset(), path_.reset();
+  if (had_overlay) emit overlayChanged();  // the last scan's mesh is gone
   // Meshing a full scan takes a fifth of a second: only when looked at.
   if (isVisible()) buildMesh();
   refresh();
@@ -179,14 +181,17 @@ void TerrainMeshPanel::buildMesh() {
   mesh_ = cloud_.size() >= 3 ? mapping::triangulate(cloud_) : mapping::TerrainMesh{};
   mesh_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  emit overlayChanged();
 }
 
 void TerrainMeshPanel::pick(const Eigen::Vector2d& xy) {
   if (!start_ || goal_) {
     start_ = xy;
     goal_.reset();
+    const bool had_path = path_.has_value();
     path_.reset();
     refresh();
+    if (had_path) emit overlayChanged();
     return;
   }
   goal_ = xy;
@@ -203,11 +208,23 @@ void TerrainMeshPanel::plan() {
   path_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   refresh();
+  emit overlayChanged();
 }
 
 QString TerrainMeshPanel::readout() const { return readout_->text(); }
 
 QWidget* TerrainMeshPanel::meshView() const { return view_; }
+
+std::vector<std::vector<Eigen::Vector3d>> TerrainMeshPanel::outlines() const {
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (int t = 0; t < int(mesh_.size()); ++t)
+    out.push_back({mesh_.corner(t, 0), mesh_.corner(t, 1), mesh_.corner(t, 2), mesh_.corner(t, 0)});
+  return out;
+}
+
+std::vector<Eigen::Vector3d> TerrainMeshPanel::pathPoints() const {
+  return path_ && path_->found ? path_->simplified : std::vector<Eigen::Vector3d>{};
+}
 
 QPointF TerrainMeshPanel::viewPointOf(const Eigen::Vector2d& world_xy) const {
   view_->fit();
@@ -225,7 +242,6 @@ void TerrainMeshPanel::refresh() {
   view_->path = path_ ? &*path_ : nullptr;
   view_->max_slope_deg = max_slope_->value();
   QString text;
-  if (mesh_.size() == 0 && cloud_.size() >= 3) buildMesh();
   if (mesh_.size() > 0)
     text = tr("Mesh of the last scan: %1 triangles, %2 vertices (%3 ms). ")
                .arg(mesh_.size())

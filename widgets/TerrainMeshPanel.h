@@ -41,6 +41,13 @@ class TerrainMeshPanel : public QWidget {
   // Where a world point is drawn in meshView() (for clicks in tests).
   QPointF viewPointOf(const Eigen::Vector2d& world_xy) const;
   QComboBox* costBox() const { return cost_; }
+  // The triangles' outlines and the simplified path, for the 3-D view.
+  std::vector<std::vector<Eigen::Vector3d>> outlines() const;
+  std::vector<Eigen::Vector3d> pathPoints() const;
+
+ signals:
+  // A new mesh, or a path planned or cleared.
+  void overlayChanged();
 
  protected:
   void showEvent(QShowEvent* e) override;

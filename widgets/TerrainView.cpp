@@ -4,6 +4,7 @@
 #include <vtkProperty.h>
 
 #include <QCheckBox>
+#include <QHBoxLayout>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
@@ -16,14 +17,48 @@
 namespace ambler::widgets {
 
 TerrainView::TerrainView(QWidget* parent)
-    : QWidget(parent), view_(new rendering::VtkView(this)), show_points_(new QCheckBox(this)) {
+    : QWidget(parent),
+      view_(new rendering::VtkView(this)),
+      show_points_(new QCheckBox(this)),
+      show_mesh_(new QCheckBox(this)) {
   show_points_->setText(tr("Show scan points (eq. 1, world frame)"));
   show_points_->setChecked(true);
+  show_mesh_->setText(tr("Show terrain mesh and path"));
+  show_mesh_->setChecked(true);
+  auto* options = new QHBoxLayout;
+  options->addWidget(show_points_);
+  options->addWidget(show_mesh_);
+  options->addStretch();
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(view_, 1);
-  layout->addWidget(show_points_);
+  layout->addLayout(options);
   connect(show_points_, &QCheckBox::toggled, this, [this] { rebuild(); });
+  connect(show_mesh_, &QCheckBox::toggled, this, [this] { rebuild(); });
+}
+
+void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
+                                 std::vector<Eigen::Vector3d> path) {
+  mesh_outlines_ = std::move(outlines);
+  mesh_path_ = std::move(path);
+  rebuild();
+}
+
+// Lifted a few centimetres so the ground surface does not hide them.
+void TerrainView::addMeshOverlay(vtkRenderer* renderer) const {
+  if (!show_mesh_->isChecked()) return;
+  const Eigen::Vector3d lift(0, 0, 0.03);
+  auto lifted = [&](std::vector<Eigen::Vector3d> line) {
+    for (auto& p : line) p += lift;
+    return line;
+  };
+  if (!mesh_outlines_.empty()) {
+    std::vector<std::vector<Eigen::Vector3d>> outlines;
+    for (const auto& o : mesh_outlines_) outlines.push_back(lifted(o));
+    renderer->AddActor(rendering::makePolylines(outlines, {0.8, 0.8, 0.8}, 1.0f));
+  }
+  if (mesh_path_.size() >= 2)
+    renderer->AddActor(rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
 }
 
 void TerrainView::setScene(const ScanDisplay& display) {
@@ -169,6 +204,7 @@ void TerrainView::rebuild() {
   }
   addRover(renderer);
   addProposal(renderer);
+  addMeshOverlay(renderer);
 
   if (!camera_placed_) {
     if (display_) {

@@ -37,6 +37,11 @@ class TerrainView : public QWidget {
   void setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
                 const std::optional<executive::StepProposal>& proposal);
 
+  // The terrain mesh's triangle outlines (grey) and a path over it (cyan),
+  // drawn when "Show terrain mesh" is ticked; empty ones clear them.
+  void setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
+                      std::vector<Eigen::Vector3d> path);
+
   static constexpr int kDetailLimit = 20000;  // cells or points drawn while moving
   rendering::VtkView* view() const { return view_; }
   QSize sizeHint() const override { return {640, 480}; }
@@ -45,10 +50,14 @@ class TerrainView : public QWidget {
   void rebuild();
   void addRover(vtkRenderer* renderer) const;
   void addProposal(vtkRenderer* renderer) const;
+  void addMeshOverlay(vtkRenderer* renderer) const;
   void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
 
   rendering::VtkView* view_;
   QCheckBox* show_points_;
+  QCheckBox* show_mesh_;
+  std::vector<std::vector<Eigen::Vector3d>> mesh_outlines_;
+  std::vector<Eigen::Vector3d> mesh_path_;
   std::optional<ScanDisplay> display_;
   std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;
   std::optional<gait::Stance> stance_;

@@ -96,7 +96,11 @@ class VertexChooser {
 
   void visit(const Square& s, const std::vector<int>& inside) {
     if (inside.empty()) return;
-    if (s.size <= o_.max_cell_m * (1 + 1e-6) && inside.size() >= 3) {
+    // A plane through points bunched in one corner (a box's wall, the edge
+    // of a shadow) would be extrapolated far to the square's corners: only
+    // squares their points span at least halfway across (within the data's
+    // bounds) count as flat.
+    if (s.size <= o_.max_cell_m * (1 + 1e-6) && inside.size() >= 3 && spans(s, inside)) {
       if (const auto plane = flatFit(inside)) {
         markOccupied(s);
         for (const auto& c : {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1),
@@ -137,6 +141,17 @@ class VertexChooser {
   }
 
  private:
+  bool spans(const Square& s, const std::vector<int>& inside) const {
+    Eigen::Vector2d lo = points_[std::size_t(inside[0])].head<2>(), hi = lo;
+    for (int i : inside)
+      lo = lo.cwiseMin(points_[std::size_t(i)].head<2>()),
+      hi = hi.cwiseMax(points_[std::size_t(i)].head<2>());
+    // Of the square as clipped to the data's bounds.
+    const Eigen::Vector2d extent =
+        (s.lo + Eigen::Vector2d::Constant(s.size)).cwiseMin(hi_) - s.lo.cwiseMax(lo_);
+    return ((hi - lo).array() >= 0.5 * extent.array()).all();
+  }
+
   // z = a x + b y + c through the points, when every one is within tolerance.
   std::optional<Eigen::Vector3d> flatFit(const std::vector<int>& inside) const {
     Eigen::MatrixX3d a(Eigen::Index(inside.size()), 3);

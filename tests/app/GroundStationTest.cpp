@@ -26,6 +26,7 @@
 #include "app/gs/GroundStation.h"
 #include "core/Resources.h"
 #include "missionlog/MissionLog.h"
+#include "rendering/VtkView.h"
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
 #include "widgets/CommandLogView.h"
@@ -361,6 +362,8 @@ class GroundStationTest : public QObject {
     w.showMeshView();
     auto& panel = *w.meshPanel();
     QVERIFY(panel.mesh().size() > 100);
+    // The 3-D view draws the mesh, then the path over it too.
+    const long long with_mesh = w.terrainView()->view()->visibleCells();
     QTest::mouseClick(panel.meshView(), Qt::LeftButton, {},
                       panel.viewPointOf({0.0, 7.0}).toPoint());
     QVERIFY(panel.readout().contains("click the goal"));
@@ -372,8 +375,12 @@ class GroundStationTest : public QObject {
     QVERIFY(path.simplified.size() < path.raw.size());
     QVERIFY(path.simplified_cost <= 1.05 * path.raw_cost);
     QVERIFY((path.simplified.back().head<2>() - Eigen::Vector2d(1, 17)).norm() < 0.2);
-    const QString error = screenshot(&panel, "terrain-mesh.png");
-    QVERIFY2(error.isEmpty(), qPrintable(error));
+    QCOMPARE(w.terrainView()->view()->visibleCells(), with_mesh + 1);  // one polyline
+    for (const auto& [widget, name] : {std::pair<QWidget*, QString>{&panel, "terrain-mesh.png"},
+                                       {w.terrainView(), "3d-view-mesh-path.png"}}) {
+      const QString error = screenshot(widget, name);
+      QVERIFY2(error.isEmpty(), qPrintable(error));
+    }
     // Another cost plans again.
     panel.costBox()->setCurrentIndex(2);
     QVERIFY(panel.path() && panel.path()->found);
