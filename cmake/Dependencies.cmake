@@ -24,8 +24,7 @@ find_package(VTK 9.1 REQUIRED COMPONENTS
 # find_package(PCL) overwrites VTK_LIBRARIES, so keep our own list.
 set(AMBLER_VTK_LIBRARIES ${VTK_LIBRARIES})
 
-find_package(PCL 1.13 REQUIRED COMPONENTS common io kdtree search features filters registration
-             sample_consensus)
+find_package(PCL 1.13 REQUIRED COMPONENTS common io kdtree search features filters registration)
 # PCLConfig attaches VTK targets (GUISupportQt among them, built on Qt5) to
 # the imported pcl_* targets; strip them so no Qt5 enters our link lines.
 foreach(pcl_target IN ITEMS pcl_common pcl_io pcl_io_ply pcl_octree pcl_surface pcl_2d
