@@ -155,10 +155,7 @@ TerrainMeshPanel::TerrainMeshPanel(QWidget* parent)
 }
 
 void TerrainMeshPanel::setScan(const sensor::RangeImage& scan) {
-  cloud_.clear();
-  for (int r = 0; r < scan.rows(); ++r)
-    for (int c = 0; c < scan.cols(); ++c)
-      if (scan.hasReturn(r, c)) cloud_.push_back(scan.pointInWorld(r, c));
+  cloud_ = scan.pointsInWorld();
   const bool had_overlay = mesh_.size() > 0;
   mesh_ = {};
   start_.reset(), goal_.reset(), path_.reset();

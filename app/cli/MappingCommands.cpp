@@ -29,11 +29,7 @@ View viewFrom(const sim::ScannerModel& model, std::uint64_t seed, const Eigen::V
               double heading) {
   const sim::CourseScene scene(seed, model, xy, heading);
   const auto image = scene.scan(seed * 7 + 1);
-  View v{{}, image.sensor_to_world};
-  for (int r = 0; r < image.rows(); ++r)
-    for (int c = 0; c < image.cols(); ++c)
-      if (image.hasReturn(r, c)) v.points.push_back(image.pointInSensor(r, c));
-  return v;
+  return {image.pointsInSensor(), image.sensor_to_world};
 }
 
 double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {

@@ -75,11 +75,7 @@ void runSimScan(const SimScanArgs& a) {
   std::filesystem::create_directories(dir);
   sensor::writeRangeImage(scan, dir / "scan.tif");
   // The same returns as a point cloud in the world frame (for mesh, path).
-  mapping::Cloud cloud;
-  for (int r = 0; r < scan.rows(); ++r)
-    for (int c = 0; c < scan.cols(); ++c)
-      if (scan.hasReturn(r, c)) cloud.push_back(scan.pointInWorld(r, c));
-  mapping::writeCloud(dir / "cloud.pcd", cloud);
+  mapping::writeCloud(dir / "cloud.pcd", scan.pointsInWorld());
   writeTruth(truth, dir);
   printJson(
       {{"scan", (dir / "scan.tif").string()},

@@ -10,6 +10,21 @@ int RangeImage::returnCount() const {
   return n;
 }
 
+std::vector<Eigen::Vector3d> RangeImage::pointsInSensor() const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(std::size_t(returnCount()));
+  for (int r = 0; r < rows(); ++r)
+    for (int c = 0; c < cols(); ++c)
+      if (hasReturn(r, c)) out.push_back(pointInSensor(r, c));
+  return out;
+}
+
+std::vector<Eigen::Vector3d> RangeImage::pointsInWorld() const {
+  auto out = pointsInSensor();
+  for (auto& p : out) p = sensor_to_world * p;
+  return out;
+}
+
 std::string findProblem(const RangeImage& image) {
   const auto& g = image.geometry;
   if (g.rows <= 0 || g.cols <= 0) return "rows and cols must be positive";

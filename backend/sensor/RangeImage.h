@@ -33,6 +33,10 @@ struct RangeImage {
   }
   Eigen::Vector3d pointInWorld(int r, int c) const { return sensor_to_world * pointInSensor(r, c); }
   int returnCount() const;
+  // Every return as a point (eq. 1), row by row, in the sensor's frame or
+  // in the world's.
+  std::vector<Eigen::Vector3d> pointsInSensor() const;
+  std::vector<Eigen::Vector3d> pointsInWorld() const;
 };
 
 // Describes the first inconsistency of a range image (sizes, steps, noise

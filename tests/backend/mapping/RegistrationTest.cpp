@@ -22,11 +22,7 @@ View viewFrom(std::uint64_t seed, const Eigen::Vector2d& xy, double heading) {
   const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")), xy,
                                heading);
   const auto image = scene.scan(seed);
-  View v{{}, image.sensor_to_world};
-  for (int r = 0; r < image.rows(); ++r)
-    for (int c = 0; c < image.cols(); ++c)
-      if (image.hasReturn(r, c)) v.points.push_back(image.pointInSensor(r, c));
-  return v;
+  return {image.pointsInSensor(), image.sensor_to_world};
 }
 
 Eigen::Isometry3d perturbed(const Eigen::Isometry3d& t, double metres, double degrees) {
