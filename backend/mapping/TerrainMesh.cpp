@@ -31,19 +31,30 @@ double TerrainMesh::slopeRad(int t) const {
   return std::acos(std::clamp(normal(t).z(), -1.0, 1.0));
 }
 
+namespace {
+
+// Twice the signed area of (u, v, w) seen from above: positive when they
+// turn counter-clockwise.
+double turn(const Eigen::Vector2d& u, const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
+  return (v - u).x() * (w - u).y() - (v - u).y() * (w - u).x();
+}
+
+}  // namespace
+
 double TerrainMesh::areaXY(int t) const {
-  const Eigen::Vector2d a = corner(t, 0).head<2>(), b = corner(t, 1).head<2>(),
-                        c = corner(t, 2).head<2>();
-  return 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  return 0.5 *
+         std::abs(turn(corner(t, 0).head<2>(), corner(t, 1).head<2>(), corner(t, 2).head<2>()));
+}
+
+Eigen::Vector3d TerrainMesh::pointOn(int t, const Eigen::Vector2d& xy) const {
+  const Eigen::Vector3d n = normal(t), a = corner(t, 0);
+  return {xy.x(), xy.y(), a.z() - (n.x() * (xy.x() - a.x()) + n.y() * (xy.y() - a.y())) / n.z()};
 }
 
 bool TerrainMesh::containsXY(int t, const Eigen::Vector2d& p) const {
   const Eigen::Vector2d a = corner(t, 0).head<2>(), b = corner(t, 1).head<2>(),
                         c = corner(t, 2).head<2>();
-  auto side = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
-    return (v - u).x() * (w - u).y() - (v - u).y() * (w - u).x();
-  };
-  const double d1 = side(a, b, p), d2 = side(b, c, p), d3 = side(c, a, p);
+  const double d1 = turn(a, b, p), d2 = turn(b, c, p), d3 = turn(c, a, p);
   const double eps = -1e-12 * (1.0 + areaXY(t));
   return (d1 >= eps && d2 >= eps && d3 >= eps) || (d1 <= -eps && d2 <= -eps && d3 <= -eps);
 }
@@ -233,10 +244,7 @@ TerrainMesh triangulate(const std::vector<Eigen::Vector3d>& points, const MeshOp
     const Eigen::Vector3d a = mesh.vertices[std::size_t(t[0])],
                           b = mesh.vertices[std::size_t(t[1])],
                           d = mesh.vertices[std::size_t(t[2])];
-    if ((b - a).head<2>().x() * (d - a).head<2>().y() -
-            (b - a).head<2>().y() * (d - a).head<2>().x() <
-        0)
-      std::swap(t[1], t[2]);
+    if (turn(a.head<2>(), b.head<2>(), d.head<2>()) < 0) std::swap(t[1], t[2]);
     if (!chooser.overData(((a + b + d) / 3).head<2>())) continue;
     mesh.triangles.push_back(t);
   }

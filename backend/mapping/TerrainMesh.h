@@ -25,6 +25,8 @@ struct TerrainMesh {
   Eigen::Vector3d normal(int t) const;  // unit, upward
   double slopeRad(int t) const;         // of the triangle's plane from the horizontal
   double areaXY(int t) const;           // of its projection [m^2]
+  // The point of triangle t's plane above (x, y).
+  Eigen::Vector3d pointOn(int t, const Eigen::Vector2d& xy) const;
   // Whether (x, y) lies in triangle t's projection (edges included).
   bool containsXY(int t, const Eigen::Vector2d& xy) const;
 };

@@ -41,7 +41,7 @@ class TriangleCosts {
         per_metre += o.low_ground_weight * (z_hi - mesh.centre(t).z()) / (z_hi - z_lo);
       per_metre_.push_back(slope > limit ? kInfinity : per_metre);
     }
-    edge_slope_limit_ = std::tan(limit);
+    limit_rad_ = limit;
   }
 
   double perMetre(int t) const { return per_metre_[std::size_t(t)]; }
@@ -56,7 +56,7 @@ class TriangleCosts {
     if (o_.cost != PathCost::kDistance) {
       const double run = (cb - ca).head<2>().norm();
       const double rise = run > 0 ? std::abs(cb.z() - ca.z()) / run : 0.0;
-      cost += length * o_.slope_weight * std::atan(rise) / std::atan(edge_slope_limit_);
+      cost += length * o_.slope_weight * std::atan(rise) / limit_rad_;
     }
     return cost;
   }
@@ -64,7 +64,7 @@ class TriangleCosts {
  private:
   const PathOptions& o_;
   std::vector<double> per_metre_;
-  double edge_slope_limit_ = 1.0;
+  double limit_rad_ = 1.0;  // the slope limit
 };
 
 std::vector<int> dijkstra(const TerrainMesh& mesh, const TriangleCosts& costs, int start,
@@ -97,13 +97,6 @@ std::vector<int> dijkstra(const TerrainMesh& mesh, const TriangleCosts& costs, i
   return path;
 }
 
-// The height of the mesh under xy (on triangle t's plane).
-Eigen::Vector3d onMesh(const TerrainMesh& mesh, int t, const Eigen::Vector2d& xy) {
-  const Eigen::Vector3d n = mesh.normal(t), a = mesh.corner(t, 0);
-  const double z = a.z() - (n.x() * (xy.x() - a.x()) + n.y() * (xy.y() - a.y())) / n.z();
-  return {xy.x(), xy.y(), z};
-}
-
 double segmentCost(const TerrainMesh& mesh, const TriangleLocator& locator,
                    const TriangleCosts& costs, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                    double step) {
@@ -117,7 +110,7 @@ double segmentCost(const TerrainMesh& mesh, const TriangleLocator& locator,
     const auto t = locator.at(mid);
     if (!t || !costs.passable(*t)) return kInfinity;
     const Eigen::Vector3d next =
-        i == n ? b : onMesh(mesh, *t, a.head<2>() + (b - a).head<2>() * (double(i) / n));
+        i == n ? b : mesh.pointOn(*t, a.head<2>() + (b - a).head<2>() * (double(i) / n));
     cost += (next - previous).norm() * costs.perMetre(*t);
     previous = next;
   }
@@ -165,10 +158,10 @@ TerrainPath planPath(const TerrainMesh& mesh, const Eigen::Vector2d& from,
     path.reason = "no way over passable triangles joins the start to the goal";
     return path;
   }
-  path.raw.push_back(onMesh(mesh, *start, from));
+  path.raw.push_back(mesh.pointOn(*start, from));
   for (std::size_t i = 1; i + 1 < path.triangles.size(); ++i)
     path.raw.push_back(mesh.centre(path.triangles[i]));
-  path.raw.push_back(onMesh(mesh, *goal, to));
+  path.raw.push_back(mesh.pointOn(*goal, to));
   const double step = samplingStep(mesh);
   std::vector<double> piece(path.raw.size(), 0.0);  // raw cost up to each waypoint
   for (std::size_t i = 1; i < path.raw.size(); ++i)

@@ -28,9 +28,7 @@ std::vector<Eigen::Vector3d> sampled(const Height& h, double x0, double y0, doub
 
 // The mesh's height under xy.
 double heightOn(const TerrainMesh& m, const TriangleLocator& at, const Eigen::Vector2d& xy) {
-  const int t = at.at(xy).value();
-  const Eigen::Vector3d n = m.normal(t), a = m.corner(t, 0);
-  return a.z() - (n.x() * (xy.x() - a.x()) + n.y() * (xy.y() - a.y())) / n.z();
+  return m.pointOn(at.at(xy).value(), xy).z();
 }
 
 TEST(TerrainMesh, APlaneIsAFewLargeTrianglesOnIt) {
