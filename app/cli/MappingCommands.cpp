@@ -1,7 +1,8 @@
 // `eval mapping`: registration of simulated scans from different
 // viewpoints and global localization in a coarse model (bakambu-csa §2),
-// against the simulator's poses. `mesh` and `path`: the triangulated
-// terrain of a cloud and a path over it (§3-4).
+// against the simulator's poses. `register`: the same on PCD files. `mesh`
+// and `path`: the triangulated terrain of a cloud and a path over it
+// (§3-4).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
+#include "mapping/Localization.h"
 #include "mapping/MappingFiles.h"
 #include "mapping/Registration.h"
 #include "mapping/TerrainPath.h"
@@ -36,16 +38,23 @@ double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180 / M_PI;
 }
 
-// The course's terrain every metre over a square around the origin, in the
-// world frame: the coarse model (as from orbital altimetry).
+// The course as a 1 m model from orbital altimetry, over a square around
+// the origin.
 mapping::Cloud coarseModel(std::uint64_t seed, double half_size) {
   const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")));
-  mapping::Cloud model;
-  for (double y = -half_size; y <= half_size; y += 1.0)
-    for (double x = -half_size; x <= half_size; x += 1.0)
-      if (const double z = scene.terrain().height(x, y); std::isfinite(z))
-        model.push_back({x, y, z});
-  return model;
+  const auto grid = GridSpec::covering({-half_size, -half_size, half_size, half_size}, 1.0);
+  return sim::orbitalModel(scene.terrain(), grid);
+}
+
+Eigen::Vector2d nearestCentre(const mapping::TerrainMesh& mesh, const Eigen::Vector2d& xy) {
+  Eigen::Vector2d best = xy;
+  double nearest = INFINITY;
+  for (int t = 0; t < int(mesh.size()); ++t) {
+    const Eigen::Vector2d c =
+        (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)).head<2>() / 3;
+    if (const double d = (c - xy).squaredNorm(); d < nearest) nearest = d, best = c;
+  }
+  return best;
 }
 
 struct EvalMappingArgs {
@@ -55,15 +64,23 @@ struct EvalMappingArgs {
 
 void runEvalMapping(const EvalMappingArgs& args) {
   const auto model = sim::readScannerModel(findResource("config/scanner.json"));
-  std::vector<double> trans_pct, rot_deg, icp_ms, global_s, global_err_m;
-  int global_ok = 0;
+  std::vector<double> trans_pct, rot_deg, icp_ms, global_s, global_err_m, triangles, path_m,
+      path_ms;
+  int global_ok = 0, paths_found = 0;
   for (const auto seed : args.seeds) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     // A second view 1.5-3.5 m on, up to 0.5 m aside, turned up to 10 deg;
     // dead reckoning off by 10 % of the move and 2 degrees.
-    const View a = viewFrom(model, seed, {0, 0}, 0);
-    const View b = viewFrom(model, seed, {0.5 * u(rng), 2.5 + u(rng)}, 10 * M_PI / 180 * u(rng));
+    // The first view anywhere within 5 m of the course's centre, at any
+    // heading (global localization must find it in the coarse model).
+    const Eigen::Vector2d at(5 * u(rng), 5 * u(rng));
+    const double heading = M_PI * u(rng);
+    const Eigen::Vector2d ahead(-std::sin(heading), std::cos(heading));
+    const Eigen::Vector2d aside(ahead.y(), -ahead.x());
+    const View a = viewFrom(model, seed, at, heading);
+    const View b = viewFrom(model, seed, at + (2.5 + u(rng)) * ahead + 0.5 * u(rng) * aside,
+                            heading + 10 * M_PI / 180 * u(rng));
     const Eigen::Isometry3d truth = a.pose.inverse() * b.pose;
     const double travelled = (b.pose.translation() - a.pose.translation()).norm();
     const Eigen::Vector3d drift = Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng)).normalized();
@@ -76,13 +93,24 @@ void runEvalMapping(const EvalMappingArgs& args) {
     trans_pct.push_back(100 * (r.transform.translation() - truth.translation()).norm() / travelled);
     rot_deg.push_back(angleDeg(r.transform.linear(), truth.linear()));
     // Global: view a, without a prior, into the coarse model of the course.
-    const auto coarse = coarseModel(seed, 25.0);
+    const auto coarse = coarseModel(seed, 30.0);
     start = std::chrono::steady_clock::now();
     const auto g = mapping::localize(a.points, mapping::withoutYaw(a.pose.linear()), coarse);
     global_s.push_back(millisecondsSince(start) / 1000);
     const double err = (g.transform.translation() - a.pose.translation()).norm();
     global_err_m.push_back(err);
     global_ok += err < 0.5 && angleDeg(g.transform.linear(), a.pose.linear()) < 2.0;
+    // The mesh of view a in the world and a path across it, from the
+    // triangles nearest 5 m and 16 m ahead (the view has holes: shadows).
+    mapping::Cloud world;
+    for (const auto& p : a.points) world.push_back(a.pose * p);
+    const auto mesh = mapping::triangulate(world);
+    triangles.push_back(double(mesh.size()));
+    start = std::chrono::steady_clock::now();
+    const auto path = mapping::planPath(mesh, nearestCentre(mesh, at + 5 * ahead),
+                                        nearestCentre(mesh, at + 16 * ahead));
+    path_ms.push_back(millisecondsSince(start));
+    if (path.found) ++paths_found, path_m.push_back(path.length_m);
   }
   printJson({{"cases", args.seeds.size()},
              {"icp_trans_err_pct_of_distance", distribution(trans_pct)},
@@ -91,7 +119,63 @@ void runEvalMapping(const EvalMappingArgs& args) {
              {"global_loc_success_rate", double(global_ok) / double(args.seeds.size())},
              {"global_loc_success_rule", "within 0.5 m and 2 deg of the true pose"},
              {"global_loc_err_m", distribution(global_err_m)},
-             {"global_loc_s", distribution(global_s)}});
+             {"global_loc_s", distribution(global_s)},
+             {"mesh_triangles", distribution(triangles)},
+             {"paths_found", paths_found},
+             {"path_len_m", distribution(path_m)},
+             {"path_ms", distribution(path_ms)}});
+}
+
+struct RegisterArgs {
+  std::string source, target, initial = "0,0,0,0", out;
+  bool global = false;
+  double cell_m = 1.0;
+  bool json = true;  // the only output form
+};
+
+Eigen::Isometry3d poseFrom(const std::string& text) {
+  const auto v = parseNumbers(text, 4, "--initial", "X,Y,Z,YAW_DEG");
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  pose.linear() = Eigen::AngleAxisd(v[3] * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return pose;
+}
+
+void runRegister(const RegisterArgs& args) {
+  const auto source = mapping::readCloud(args.source);
+  const auto target = mapping::readCloud(args.target);
+  const auto start = std::chrono::steady_clock::now();
+  mapping::Registration r;
+  if (args.global) {
+    mapping::GlobalOptions options;
+    options.cell_m = args.cell_m;
+    r = mapping::localize(source, Eigen::Matrix3d::Identity(), target, options);
+  } else {
+    r = mapping::registerIcp(source, target, poseFrom(args.initial));
+  }
+  const double ms = millisecondsSince(start);
+  if (!args.out.empty()) {
+    mapping::Cloud moved;
+    for (const auto& p : source) moved.push_back(r.transform * p);
+    mapping::writeCloud(args.out, moved);
+  }
+  const Eigen::Matrix4d m = r.transform.matrix();
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 4; ++i) rows.push_back({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
+  const Eigen::Vector3d t = r.transform.translation();
+  printJson({{"source", args.source},
+             {"target", args.target},
+             {"mode", args.global ? "global" : "icp"},
+             {"transform", rows},
+             {"translation_m", {t.x(), t.y(), t.z()}},
+             {"yaw_deg", std::atan2(m(1, 0), m(0, 0)) * 180 / M_PI},
+             {"converged", r.converged},
+             {"iterations", r.iterations},
+             {"pairs", r.pairs},
+             {"rms_m", r.rms_m},
+             {"ms", ms}});
+  if (!r.converged && args.global)
+    throw std::runtime_error("no placement of the source overlaps the model enough");
 }
 
 struct MeshArgs {
@@ -155,6 +239,28 @@ void runPath(const PathArgs& args) {
 }
 
 }  // namespace
+
+void addRegister(CLI::App& app) {
+  auto args = std::make_shared<RegisterArgs>();
+  auto* cmd = app.add_subcommand(
+      "register",
+      "Align SOURCE to TARGET: ICP from an initial pose (dead reckoning), or --global: "
+      "localize a levelled scan in a coarse model without a prior");
+  cmd->add_option("source", args->source, "point cloud to move (.pcd, x y z in metres)")
+      ->required();
+  cmd->add_option("target", args->target, "point cloud or coarse model (.pcd)")->required();
+  cmd->add_option("--initial", args->initial,
+                  "source-to-target pose to start ICP from, X,Y,Z [m],YAW [deg]")
+      ->capture_default_str();
+  cmd->add_flag("--global", args->global,
+                "no prior: TARGET is a model on a regular grid, SOURCE a scan with z up");
+  cmd->add_option("--cell", args->cell_m, "--global: the model's grid spacing [m]")
+      ->check(CLI::Range(0.01, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "write the moved source here (.pcd)");
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runRegister(*args); });
+}
 
 void addMesh(CLI::App& app) {
   auto args = std::make_shared<MeshArgs>();

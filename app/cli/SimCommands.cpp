@@ -6,6 +6,7 @@
 #include "core/Resources.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
+#include "mapping/Localization.h"
 #include "mapping/MappingFiles.h"
 #include "sensor/RangeImageFile.h"
 #include "sensor/StriperImageFile.h"
@@ -17,6 +18,8 @@ namespace ambler::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+// The course's model from orbital altimetry that sim-scan writes.
+constexpr Box2 kModelRegion{-30.0, -30.0, 30.0, 30.0};
 
 struct SimScanArgs {
   std::uint64_t seed = 1;
@@ -26,6 +29,7 @@ struct SimScanArgs {
   std::optional<int> rows, cols;
   std::string region;
   double resolution = 0.05;
+  std::string at = "0,0,0";
 };
 
 sim::ScannerModel scannerModel(const SimScanArgs& a) {
@@ -55,7 +59,8 @@ void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& 
 
 void runSimScan(const SimScanArgs& a) {
   const auto start = std::chrono::steady_clock::now();
-  const sim::CourseScene scene(a.seed, scannerModel(a));
+  const auto at = parseNumbers(a.at, 3, "--at", "X,Y,HEADING_DEG");
+  const sim::CourseScene scene(a.seed, scannerModel(a), {at[0], at[1]}, at[2] * kDeg);
   const auto scan_start = std::chrono::steady_clock::now();
   const auto scan = scene.scan(a.seed);
   const double scan_ms = millisecondsSince(scan_start);
@@ -74,12 +79,26 @@ void runSimScan(const SimScanArgs& a) {
   const std::filesystem::path dir(a.out);
   std::filesystem::create_directories(dir);
   sensor::writeRangeImage(scan, dir / "scan.tif");
-  // The same returns as a point cloud in the world frame (for mesh, path).
+  // The same returns as a point cloud in the world frame (for mesh, path),
+  // and levelled about the sensor, as the rover's inclinometers leave it
+  // without knowing where or which way it is (for register --global), with
+  // the course's model from orbital altimetry.
   mapping::writeCloud(dir / "cloud.pcd", scan.pointsInWorld());
+  mapping::Cloud level;
+  const Eigen::Matrix3d tilt = mapping::withoutYaw(scan.sensor_to_world.linear());
+  for (const auto& p : scan.pointsInSensor()) level.push_back(tilt * p);
+  mapping::writeCloud(dir / "cloud_level.pcd", level);
+  mapping::writeCloud(dir / "model.pcd",
+                      sim::orbitalModel(scene.terrain(), GridSpec::covering(kModelRegion, 1.0)));
   writeTruth(truth, dir);
   printJson(
       {{"scan", (dir / "scan.tif").string()},
        {"cloud", (dir / "cloud.pcd").string()},
+       {"sensor_pose",
+        {{"x", scan.sensor_to_world.translation().x()},
+         {"y", scan.sensor_to_world.translation().y()},
+         {"z", scan.sensor_to_world.translation().z()},
+         {"heading_deg", at[2]}}},
        {"rows", scan.rows()},
        {"cols", scan.cols()},
        {"returns", scan.returnCount()},
@@ -110,6 +129,8 @@ void addSimScan(CLI::App& app) {
                   "ground-truth region XMIN,YMIN,XMAX,YMAX [m] (default: scan footprint)");
   cmd->add_option("--resolution", args->resolution, "ground-truth cell size [m]")
       ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--at", args->at, "rover position X,Y [m] and heading [deg, 0: +y]")
       ->capture_default_str();
   cmd->callback([args] { runSimScan(*args); });
 }

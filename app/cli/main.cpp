@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   ambler::cli::addLog(app);
   ambler::cli::addDrive(app);
   ambler::cli::addFitRock(app);
+  ambler::cli::addRegister(app);
   ambler::cli::addMesh(app);
   ambler::cli::addPath(app);
   try {

@@ -11,9 +11,7 @@
 #include <pcl/search/kdtree.h>
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -168,129 +166,6 @@ Registration registerIcp(const Cloud& source, const Cloud& target, const Eigen::
     throw std::invalid_argument("registration: the initial transform is not finite");
   return icp(prepare(source, o.voxel_m, o.normal_radius_m, "source"),
              prepare(target, o.voxel_m, o.normal_radius_m, "target"), initial, o);
-}
-
-namespace {
-
-// Mean height per cell of a grid over the x-y plane, for cells with at
-// least `min_points` points.
-struct Cell {
-  int x, y;
-  double z;
-};
-
-std::vector<Cell> heightCells(const std::vector<Eigen::Vector3d>& points, double cell,
-                              int min_points) {
-  std::map<std::pair<int, int>, std::pair<double, int>> sums;
-  for (const auto& p : points) {
-    auto& s = sums[{int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell))}];
-    s.first += p.z(), ++s.second;
-  }
-  std::vector<Cell> out;
-  for (const auto& [key, s] : sums)
-    if (s.second >= min_points) out.push_back({key.first, key.second, s.first / s.second});
-  return out;
-}
-
-// The model's cells as a dense raster (NaN where it has none).
-struct HeightRaster {
-  int x0 = 0, y0 = 0, cols = 0, rows = 0;
-  std::vector<double> z;
-
-  explicit HeightRaster(const std::vector<Cell>& cells) {
-    int x1 = INT_MIN, y1 = INT_MIN;
-    x0 = y0 = INT_MAX;
-    for (const auto& c : cells)
-      x0 = std::min(x0, c.x), y0 = std::min(y0, c.y), x1 = std::max(x1, c.x),
-      y1 = std::max(y1, c.y);
-    cols = cells.empty() ? 0 : x1 - x0 + 1;
-    rows = cells.empty() ? 0 : y1 - y0 + 1;
-    z.assign(std::size_t(cols) * std::size_t(rows), NAN);
-    for (const auto& c : cells)
-      z[std::size_t(c.y - y0) * std::size_t(cols) + std::size_t(c.x - x0)] = c.z;
-  }
-  double at(int x, int y) const {
-    if (x < x0 || y < y0 || x >= x0 + cols || y >= y0 + rows) return NAN;
-    return z[std::size_t(y - y0) * std::size_t(cols) + std::size_t(x - x0)];
-  }
-};
-
-struct Candidate {
-  double score = INFINITY;  // height misfit over the scan's relief
-  double yaw = 0.0, dz = 0.0;
-  int dx = 0, dy = 0;
-};
-
-// The best shift of `scan` (cells relative to the sensor) over `model`.
-void matchShifts(const std::vector<Cell>& scan, const HeightRaster& model, double yaw,
-                 double min_overlap, Candidate& best) {
-  const auto needed = std::max<std::size_t>(std::size_t(min_overlap * double(scan.size())), 10);
-  for (int dy = model.y0; dy < model.y0 + model.rows; ++dy)
-    for (int dx = model.x0; dx < model.x0 + model.cols; ++dx) {
-      double sum = 0, sum2 = 0, scan_sum = 0, scan_sum2 = 0;
-      std::size_t n = 0;
-      for (const auto& c : scan) {
-        const double m = model.at(c.x + dx, c.y + dy);
-        if (std::isnan(m)) continue;
-        const double d = m - c.z;
-        sum += d, sum2 += d * d, scan_sum += c.z, scan_sum2 += c.z * c.z, ++n;
-      }
-      if (n < needed) continue;
-      // The height differences' variance against the scan's own over the
-      // overlap: flat ground fits a flat scan anywhere, so a placement
-      // counts by how much of the scan's relief it explains.
-      const double mean = sum / double(n);
-      const double misfit = sum2 / double(n) - mean * mean;
-      const double relief = scan_sum2 / double(n) - std::pow(scan_sum / double(n), 2);
-      const double score = misfit / std::max(relief, 1e-6);
-      if (score < best.score) best = {score, yaw, mean, dx, dy};
-    }
-}
-
-}  // namespace
-
-Eigen::Matrix3d withoutYaw(const Eigen::Matrix3d& sensor_to_world) {
-  const double yaw = std::atan2(sensor_to_world(1, 0), sensor_to_world(0, 0));
-  return Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * sensor_to_world;
-}
-
-void validate(const GlobalOptions& o) {
-  auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw std::invalid_argument("localization option " + what);
-  };
-  require(o.cell_m > 0 && o.cell_m <= 100, "cell_m must be in (0, 100] m");
-  require(o.yaw_step_deg > 0 && o.yaw_step_deg <= 45, "yaw_step_deg must be in (0, 45]");
-  require(o.min_overlap > 0 && o.min_overlap <= 1, "min_overlap must be in (0, 1]");
-  require(o.min_points_per_cell >= 1, "min_points_per_cell must be >= 1");
-  validate(o.refine);
-}
-
-Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Cloud& model,
-                      const GlobalOptions& o) {
-  validate(o);
-  for (const auto* cloud : {&scan, &model})
-    for (const auto& p : *cloud)
-      if (!p.allFinite()) throw std::invalid_argument("localization: a point is not finite");
-  const HeightRaster model_grid(heightCells(model, o.cell_m, 1));
-  Cloud levelled;
-  for (const auto& p : scan) levelled.push_back(tilt * p);
-  Candidate best;
-  for (double yaw = 0; yaw < 2 * M_PI; yaw += o.yaw_step_deg * M_PI / 180) {
-    const Eigen::Matrix3d turn =
-        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    Cloud turned;
-    for (const auto& p : levelled) turned.push_back(turn * p);
-    const auto scan_grid = heightCells(turned, o.cell_m, o.min_points_per_cell);
-    if (scan_grid.size() < 10)
-      throw std::invalid_argument("localization: the scan covers " +
-                                  std::to_string(scan_grid.size()) + " cells; at least 10 needed");
-    matchShifts(scan_grid, model_grid, yaw, o.min_overlap, best);
-  }
-  if (!std::isfinite(best.score)) return {};
-  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
-  start.translation() = Eigen::Vector3d(best.dx * o.cell_m, best.dy * o.cell_m, best.dz);
-  start.linear() = Eigen::AngleAxisd(best.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * tilt;
-  return registerIcp(scan, model, start, o.refine);
 }
 
 }  // namespace ambler::mapping

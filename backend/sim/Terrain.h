@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cmath>
+#include <vector>
+
 #include "core/GridSpec.h"
 #include "io/Image.h"
 
@@ -30,6 +33,27 @@ inline io::FloatImage sampleHeights(const Terrain& terrain, const GridSpec& grid
       z(r, c) = float(terrain.height(p.x(), p.y()));
     }
   return z;
+}
+
+// A model from orbital altimetry at the grid's resolution: at each cell's
+// centre, the cell's mean height over samples x samples points spread over
+// it (rather than the height at the centre); cells reaching off the
+// terrain are left out.
+inline std::vector<Eigen::Vector3d> orbitalModel(const Terrain& terrain, const GridSpec& grid,
+                                                 int samples = 4) {
+  std::vector<Eigen::Vector3d> model;
+  const double step = grid.resolution / samples;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto centre = grid.cellCenter(r, c);
+      double sum = 0.0;
+      for (int i = 0; i < samples; ++i)
+        for (int j = 0; j < samples; ++j)
+          sum += terrain.height(centre.x() + (i + 0.5 - 0.5 * samples) * step,
+                                centre.y() + (j + 0.5 - 0.5 * samples) * step);
+      if (std::isfinite(sum)) model.emplace_back(centre.x(), centre.y(), sum / (samples * samples));
+    }
+  return model;
 }
 
 }  // namespace ambler::sim

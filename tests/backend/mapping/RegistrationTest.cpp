@@ -1,5 +1,5 @@
 // Registration of simulated scans taken from different viewpoints (known
-// poses), and global localization in a coarse model (bakambu-csa §2).
+// poses), bakambu-csa §2.
 #include "mapping/Registration.h"
 
 #include <gtest/gtest.h>
@@ -42,31 +42,6 @@ TEST(Registration, IcpAlignsScansFromTwoViewpoints) {
   EXPECT_LT(error, 0.01 * travelled) << error << " m of " << travelled << " m";
   EXPECT_LT(Eigen::AngleAxisd(r.transform.linear().transpose() * truth.linear()).angle(),
             0.2 * M_PI / 180);
-}
-
-// The course's terrain every metre, around the origin, in the world frame.
-Cloud coarseModel(std::uint64_t seed) {
-  const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")));
-  Cloud model;
-  for (double y = -25; y <= 25; y += 1)
-    for (double x = -25; x <= 25; x += 1)
-      if (const double z = scene.terrain().height(x, y); std::isfinite(z))
-        model.push_back({x, y, z});
-  return model;
-}
-
-// Without a prior on position or heading: course 4, whose view holds
-// enough relief (docs/mapping.md: it does not find every scan yet).
-TEST(Registration, LocalizesAScanInTheCoarseModel) {
-  const View a = viewFrom(4, {0, 0}, 0);
-  const auto r = localize(a.points, withoutYaw(a.pose.linear()), coarseModel(4));
-  EXPECT_LT((r.transform.translation() - a.pose.translation()).norm(), 0.5);
-  EXPECT_LT(Eigen::AngleAxisd(r.transform.linear().transpose() * a.pose.linear()).angle(),
-            2 * M_PI / 180);
-  GlobalOptions bad;
-  bad.yaw_step_deg = 0;
-  EXPECT_THROW(localize(a.points, withoutYaw(a.pose.linear()), coarseModel(4), bad),
-               std::invalid_argument);
 }
 
 TEST(Registration, BadInputIsRefusedWithTheProblemNamed) {
