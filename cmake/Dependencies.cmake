@@ -10,6 +10,9 @@ find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
 find_package(SQLite3 REQUIRED)
 find_package(CycloneDDS 0.10 REQUIRED)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
+# NumPy archives (.npz) are zips: minizip reads them (backend/io/Npz.cpp).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(MINIZIP REQUIRED IMPORTED_TARGET minizip)
 # Image processing for rock sampling (backend/sampling), its two core modules only.
 find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc)
 

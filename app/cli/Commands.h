@@ -25,6 +25,7 @@ void addPath(CLI::App& app);
 void addEvalLink(CLI::App& eval);
 void addEvalRocks(CLI::App& eval);
 void addEvalMapping(CLI::App& eval);
+void addEvalDem(CLI::App& eval);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

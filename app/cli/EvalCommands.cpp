@@ -159,6 +159,7 @@ void addEval(CLI::App& app) {
   addEvalLink(*eval);
   addEvalRocks(*eval);
   addEvalMapping(*eval);
+  addEvalDem(*eval);
 }
 
 }  // namespace ambler::cli

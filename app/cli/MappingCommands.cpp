@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -46,10 +47,14 @@ mapping::Cloud coarseModel(std::uint64_t seed, double half_size) {
   return sim::orbitalModel(scene.terrain(), grid);
 }
 
-Eigen::Vector2d nearestCentre(const mapping::TerrainMesh& mesh, const Eigen::Vector2d& xy) {
+// The centre of the triangle nearest `xy` that is no steeper than the
+// limit: a start or goal the planner accepts.
+Eigen::Vector2d nearestCentre(const mapping::TerrainMesh& mesh, const Eigen::Vector2d& xy,
+                              double max_slope_deg) {
   Eigen::Vector2d best = xy;
   double nearest = INFINITY;
   for (int t = 0; t < int(mesh.size()); ++t) {
+    if (mesh.slopeRad(t) > max_slope_deg * M_PI / 180) continue;
     const Eigen::Vector2d c =
         (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)).head<2>() / 3;
     if (const double d = (c - xy).squaredNorm(); d < nearest) nearest = d, best = c;
@@ -107,8 +112,9 @@ void runEvalMapping(const EvalMappingArgs& args) {
     const auto mesh = mapping::triangulate(world);
     triangles.push_back(double(mesh.size()));
     start = std::chrono::steady_clock::now();
-    const auto path = mapping::planPath(mesh, nearestCentre(mesh, at + 5 * ahead),
-                                        nearestCentre(mesh, at + 16 * ahead));
+    const double limit = mapping::PathOptions{}.max_slope_deg;
+    const auto path = mapping::planPath(mesh, nearestCentre(mesh, at + 5 * ahead, limit),
+                                        nearestCentre(mesh, at + 16 * ahead, limit));
     path_ms.push_back(millisecondsSince(start));
     if (path.found) ++paths_found, path_m.push_back(path.length_m);
   }
@@ -124,6 +130,117 @@ void runEvalMapping(const EvalMappingArgs& args) {
              {"paths_found", paths_found},
              {"path_len_m", distribution(path_m)},
              {"path_ms", distribution(path_ms)}});
+}
+
+// USGS's DEM of the Jacksboro fault, Tennessee (3 arc-seconds, 344 x 403),
+// as Debian's python-matplotlib-data ships it.
+constexpr const char* kJacksboroDem =
+    "/usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz";
+
+struct EvalDemArgs {
+  std::string dem = kJacksboroDem;
+  int windows = 10;
+  double window_m = 5000.0;
+  double cell_m = 400.0;  // patches of a quarter cell need a DEM point each
+  double max_slope_deg = 20.0;
+  std::uint64_t seed = 1;
+  bool json = true;  // the only output form
+};
+
+// The cloud's mean height per square of `cell` metres, at the squares'
+// centres: a coarse model such as orbital altimetry gives.
+mapping::Cloud blockMeans(const mapping::Cloud& cloud, double cell) {
+  std::map<std::pair<long, long>, std::pair<double, int>> sums;
+  for (const auto& p : cloud) {
+    auto& s = sums[{std::lround(std::floor(p.x() / cell)), std::lround(std::floor(p.y() / cell))}];
+    s.first += p.z(), ++s.second;
+  }
+  mapping::Cloud model;
+  for (const auto& [key, s] : sums)
+    model.emplace_back((double(key.first) + 0.5) * cell, (double(key.second) + 0.5) * cell,
+                       s.first / s.second);
+  return model;
+}
+
+// The mapping module on real terrain: the DEM meshed, a path across it, and
+// windows of it, turned and moved, found in its block-mean model.
+void runEvalDem(const EvalDemArgs& args) {
+  const auto cloud = mapping::readDem(args.dem);
+  Eigen::Vector2d lo = cloud[0].head<2>(), hi = lo;
+  for (const auto& p : cloud) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+  const double spacing = std::sqrt((hi - lo).prod() / double(cloud.size()));
+  mapping::MeshOptions mesh_options;
+  mesh_options.tolerance_m = 10.0;
+  mesh_options.min_cell_m = 2 * spacing;
+  mesh_options.max_cell_m = 64 * spacing;
+  auto start = std::chrono::steady_clock::now();
+  const auto mesh = mapping::triangulate(cloud, mesh_options);
+  const double mesh_ms = millisecondsSince(start);
+
+  mapping::PathOptions path_options;
+  path_options.max_slope_deg = args.max_slope_deg;
+  const Eigen::Vector2d margin = 0.15 * (hi - lo);
+  start = std::chrono::steady_clock::now();
+  const auto path =
+      mapping::planPath(mesh, nearestCentre(mesh, lo + margin, args.max_slope_deg),
+                        nearestCentre(mesh, hi - margin, args.max_slope_deg), path_options);
+  const double path_ms = millisecondsSince(start);
+  double steepest = 0.0;
+  for (const int t : path.triangles) steepest = std::max(steepest, mesh.slopeRad(t) * 180 / M_PI);
+
+  const auto model = blockMeans(cloud, args.cell_m);
+  std::mt19937_64 rng(args.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  mapping::GlobalOptions options;
+  options.cell_m = args.cell_m;
+  std::vector<double> err_m, err_deg, seconds;
+  int found = 0;
+  for (int w = 0; w < args.windows; ++w) {
+    const double reach = 0.5 * args.window_m + args.cell_m;
+    const Eigen::Vector2d centre(lo.x() + reach + u(rng) * (hi.x() - lo.x() - 2 * reach),
+                                 lo.y() + reach + u(rng) * (hi.y() - lo.y() - 2 * reach));
+    const double yaw = 2 * M_PI * u(rng);
+    const Eigen::Rotation2Dd unturn(-yaw);
+    mapping::Cloud scan;  // about the window's centre, turned by -yaw
+    for (const auto& p : cloud)
+      if ((p.head<2>() - centre).norm() < 0.5 * args.window_m) {
+        const Eigen::Vector2d xy = unturn * (p.head<2>() - centre);
+        scan.emplace_back(xy.x(), xy.y(), p.z());
+      }
+    start = std::chrono::steady_clock::now();
+    const auto r = mapping::localize(scan, Eigen::Matrix3d::Identity(), model, options);
+    seconds.push_back(millisecondsSince(start) / 1000);
+    err_m.push_back((r.transform.translation().head<2>() - centre).norm());
+    const double got = std::atan2(r.transform.linear()(1, 0), r.transform.linear()(0, 0));
+    err_deg.push_back(std::abs(std::remainder(got - yaw, 2 * M_PI)) * 180 / M_PI);
+    found += err_m.back() < 0.5 * args.cell_m && err_deg.back() < 2.0;
+  }
+  printJson({{"dem", args.dem},
+             {"points", cloud.size()},
+             {"extent_m", {hi.x() - lo.x(), hi.y() - lo.y()}},
+             {"spacing_m", spacing},
+             {"mesh_triangles", mesh.size()},
+             {"mesh_ms", mesh_ms},
+             {"path",
+              {{"found", path.found},
+               {"reason", path.reason},
+               {"len_m", path.length_m},
+               {"waypoints", path.simplified.size()},
+               {"raw_waypoints", path.raw.size()},
+               {"cost_value", path.simplified_cost},
+               {"raw_cost_value", path.raw_cost},
+               {"steepest_triangle_deg", steepest},
+               {"max_slope_deg", args.max_slope_deg},
+               {"ms", path_ms}}},
+             {"global_loc",
+              {{"windows", args.windows},
+               {"window_m", args.window_m},
+               {"model_cell_m", args.cell_m},
+               {"success_rate", double(found) / args.windows},
+               {"success_rule", "within half a model cell and 2 deg"},
+               {"err_m", distribution(err_m)},
+               {"err_deg", distribution(err_deg)},
+               {"s", distribution(seconds)}}}});
 }
 
 struct RegisterArgs {
@@ -270,13 +387,13 @@ void addMesh(CLI::App& app) {
   cmd->add_option("--out", args->out, "mesh to write (.ply)")->required();
   cmd->add_option("--tolerance", args->options.tolerance_m,
                   "largest height error of a flat square's two triangles [m]")
-      ->check(CLI::Range(1e-4, 10.0))
+      ->check(CLI::Range(1e-4, 1000.0))
       ->capture_default_str();
   cmd->add_option("--min-cell", args->options.min_cell_m, "smallest square [m]")
-      ->check(CLI::Range(1e-3, 100.0))
+      ->check(CLI::Range(1e-3, 1e5))
       ->capture_default_str();
   cmd->add_option("--max-cell", args->options.max_cell_m, "largest square [m]")
-      ->check(CLI::Range(1e-3, 1000.0))
+      ->check(CLI::Range(1e-3, 1e5))
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
   cmd->callback([args] { runMesh(*args); });
@@ -298,6 +415,31 @@ void addPath(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
   cmd->callback([args] { runPath(*args); });
+}
+
+void addEvalDem(CLI::App& eval) {
+  auto args = std::make_shared<EvalDemArgs>();
+  auto* cmd = eval.add_subcommand(
+      "dem",
+      "Real terrain: a USGS elevation model meshed, a path across it under a slope limit, and "
+      "windows of it found without a prior in its block-mean model");
+  cmd->add_option("--dem", args->dem, "DEM (.npz in matplotlib's sample layout)")
+      ->capture_default_str();
+  cmd->add_option("--windows", args->windows, "windows to localize")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--window", args->window_m, "window diameter [m]")
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--cell", args->cell_m, "model cell [m]")
+      ->check(CLI::Range(0.01, 1e5))
+      ->capture_default_str();
+  cmd->add_option("--max-slope-deg", args->max_slope_deg, "the path's slope limit [deg]")
+      ->check(CLI::Range(0.1, 89.9))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->seed, "windows' places and headings")->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runEvalDem(*args); });
 }
 
 void addEvalMapping(CLI::App& eval) {

@@ -296,6 +296,13 @@ Placement refined(const std::vector<Patch>& patches, const Lattice& model, const
   return searchAround(patches, model, coarse, yaw_step / 8, model.cell / 16, o);
 }
 
+IcpOptions refineInMetres(const GlobalOptions& o) {
+  IcpOptions icp = o.refine;
+  icp.voxel_m *= o.cell_m, icp.normal_radius_m *= o.cell_m, icp.max_distance_m *= o.cell_m;
+  icp.min_step_m *= o.cell_m;
+  return icp;
+}
+
 }  // namespace
 
 Eigen::Matrix3d withoutYaw(const Eigen::Matrix3d& sensor_to_world) {
@@ -307,7 +314,7 @@ void validate(const GlobalOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("localization option " + what);
   };
-  require(o.cell_m > 0 && o.cell_m <= 100, "cell_m must be in (0, 100] m");
+  require(o.cell_m > 0 && o.cell_m <= 1e5, "cell_m must be in (0, 100 km]");
   require(o.yaw_step_deg > 0 && o.yaw_step_deg <= 45, "yaw_step_deg must be in (0, 45]");
   require(o.min_overlap > 0 && o.min_overlap <= 1, "min_overlap must be in (0, 1]");
   require(o.min_cell_coverage > 0 && o.min_cell_coverage <= 1,
@@ -315,7 +322,7 @@ void validate(const GlobalOptions& o) {
   require(o.candidates >= 1 && o.candidates <= 100, "candidates must be in [1, 100]");
   require(o.trimmed_fraction >= 0.5 && o.trimmed_fraction <= 1,
           "trimmed_fraction must be in [0.5, 1]");
-  validate(o.refine);
+  validate(refineInMetres(o));
 }
 
 Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Cloud& model,
@@ -367,7 +374,7 @@ Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Clou
   start.translation() = Eigen::Vector3d(winner.shift.x(), winner.shift.y(), winner.dz);
   start.linear() =
       Eigen::AngleAxisd(winner.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * tilt;
-  auto r = registerIcp(scan, model, start, o.refine);
+  auto r = registerIcp(scan, model, start, refineInMetres(o));
   // Found. Against a 1 m model ICP may reach its iteration cap still
   // moving by millimetres; that is not a failure to localize.
   r.converged = true;

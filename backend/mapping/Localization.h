@@ -33,6 +33,8 @@ struct GlobalOptions {
   double min_cell_coverage = 0.8;
   int candidates = 5;             // placements refined
   double trimmed_fraction = 0.8;  // of the overlap's cells, scored in the refinement
+  // ICP against the model, its lengths in model cells (voxel_m = 0.2: a
+  // fifth of a cell).
   IcpOptions refine{.voxel_m = 0.2,
                     .normal_radius_m = 1.5,
                     .max_distance_m = 1.5,

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "io/FormatError.h"
+#include "io/Npz.h"
 
 namespace ambler::mapping {
 
@@ -91,6 +92,43 @@ void writeMesh(const std::filesystem::path& ply, const TerrainMesh& mesh) {
   writer->SetFileTypeToBinary();
   if (writer->Write() != 1)
     throw io::FormatError("PLY '" + ply.string() + "': cannot write the mesh there");
+}
+
+Cloud readDem(const std::filesystem::path& npz) {
+  const auto arrays = io::readNpz(npz);
+  auto array = [&](const std::string& key) -> const io::NpyArray& {
+    const auto it = arrays.find(key);
+    if (it == arrays.end())
+      throw io::FormatError("DEM '" + npz.string() + "': no array '" + key + "'");
+    return it->second;
+  };
+  auto scalar = [&](const std::string& key) {
+    const auto& a = array(key);
+    if (a.values.size() != 1 || !std::isfinite(a.values[0]))
+      throw io::FormatError("DEM '" + npz.string() + "': '" + key + "' is not one finite number");
+    return a.values[0];
+  };
+  const auto& elevation = array("elevation");
+  if (elevation.shape.size() != 2 || elevation.shape[0] < 2 || elevation.shape[1] < 2)
+    throw io::FormatError("DEM '" + npz.string() + "': 'elevation' is not a grid of 2 x 2 or more");
+  const auto rows = elevation.shape[0], cols = elevation.shape[1];
+  const double lon0 = scalar("xmin"), lon1 = scalar("xmax");
+  const double lat0 = scalar("ymin"), lat1 = scalar("ymax");
+  if (std::abs(lat0) > 89 || std::abs(lat1) > 89)
+    throw io::FormatError("DEM '" + npz.string() + "': latitudes beyond 89 degrees");
+  constexpr double kMetresPerDegree = 6371000.0 * M_PI / 180;  // mean Earth radius
+  const double east = kMetresPerDegree * std::cos(0.5 * (lat0 + lat1) * M_PI / 180);
+  Cloud cloud;
+  cloud.reserve(rows * cols);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const double z = elevation.values[r * cols + c];
+      if (!std::isfinite(z)) continue;
+      const double u = (double(c) + 0.5) / double(cols) - 0.5;
+      const double v = (double(r) + 0.5) / double(rows) - 0.5;
+      cloud.emplace_back(u * (lon1 - lon0) * east, v * (lat1 - lat0) * kMetresPerDegree, z);
+    }
+  return cloud;
 }
 
 }  // namespace ambler::mapping

@@ -21,8 +21,9 @@ void validate(const IcpOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("icp option " + what);
   };
-  require(o.voxel_m > 0 && o.voxel_m <= 10, "voxel_m must be in (0, 10] m");
-  require(o.normal_radius_m > 0 && o.normal_radius_m <= 50, "normal_radius_m must be in (0, 50] m");
+  require(o.voxel_m > 0 && o.voxel_m <= 1e4, "voxel_m must be in (0, 10 km]");
+  require(o.normal_radius_m > 0 && o.normal_radius_m <= 1e5,
+          "normal_radius_m must be in (0, 100 km]");
   require(o.max_distance_m > 0, "max_distance_m must be positive");
   require(o.max_normal_angle_deg > 0 && o.max_normal_angle_deg <= 180,
           "max_normal_angle_deg must be in (0, 180]");

@@ -75,12 +75,12 @@ void connect(TerrainMesh& mesh) {
 }
 
 void validate(const MeshOptions& o) {
-  if (!(o.tolerance_m > 0 && o.tolerance_m <= 10))
-    throw std::invalid_argument("mesh option tolerance_m must be in (0, 10] m");
+  if (!(o.tolerance_m > 0 && o.tolerance_m <= 1000))
+    throw std::invalid_argument("mesh option tolerance_m must be in (0, 1000] m");
   if (!(o.min_cell_m > 0 && o.min_cell_m <= o.max_cell_m))
     throw std::invalid_argument("mesh option min_cell_m must be in (0, max_cell_m] m");
-  if (!(o.max_cell_m <= 1000))
-    throw std::invalid_argument("mesh option max_cell_m must be at most 1000 m");
+  if (!(o.max_cell_m <= 1e5))
+    throw std::invalid_argument("mesh option max_cell_m must be at most 100 km");
 }
 
 namespace {

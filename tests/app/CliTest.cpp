@@ -165,6 +165,27 @@ TEST(Cli, RegisterAlignsTwoViewsAndLocalizesAScanInTheModel) {
   EXPECT_NE(bad.out.find("--initial"), std::string::npos) << bad.out;
 }
 
+// Real terrain (USGS's Jacksboro fault DEM, Debian's python-matplotlib-data):
+// the path keeps to triangles under its slope limit and its simplification
+// within 5 % of the raw cost; three 5 km windows, turned and moved, are
+// found in the 400 m model within half a cell and 2 degrees.
+TEST(Cli, EvalDemMeshesPlansAndLocalizesOnRealTerrain) {
+  const auto run = runCli("eval dem --windows 3 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  EXPECT_EQ(out["points"].get<int>(), 344 * 403);
+  EXPECT_GT(out["mesh_triangles"].get<int>(), 1000);
+  const auto& path = out["path"];
+  ASSERT_TRUE(path["found"].get<bool>()) << path.dump();
+  EXPECT_LE(path["steepest_triangle_deg"].get<double>(), path["max_slope_deg"].get<double>());
+  EXPECT_LT(path["waypoints"].get<int>(), path["raw_waypoints"].get<int>());
+  EXPECT_LE(path["cost_value"].get<double>(), 1.05 * path["raw_cost_value"].get<double>());
+  EXPECT_EQ(out["global_loc"]["success_rate"].get<double>(), 1.0) << out["global_loc"].dump();
+  const auto bad = runCli("eval dem --dem /nonexistent.npz");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("no such file"), std::string::npos) << bad.out;
+}
+
 // eval rocks on two trays: the figures the issue asks for, per method.
 TEST(Cli, EvalRocksReportsEachMethod) {
   const auto run = runCli("eval rocks --seeds 1,2 --json");

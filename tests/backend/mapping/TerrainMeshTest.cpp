@@ -195,3 +195,33 @@ TEST(MappingFiles, MeshesAndCloudsSurviveTheirFiles) {
 
 }  // namespace
 }  // namespace ambler::mapping
+
+namespace ambler::mapping {
+namespace {
+
+// USGS's 3 arc-second DEM of the Jacksboro fault (Debian's
+// python-matplotlib-data): 344 x 403 heights of 236-1076 m, the north-west
+// corner 483 m, the south-east 272 m; 3 arc-seconds are 92.6 m north and
+// 74.4 m east at 36.6 degrees north.
+TEST(MappingFiles, ReadsTheJacksboroDemInMetresAroundItsCentre) {
+  const auto dem = readDem("/usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz");
+  ASSERT_EQ(dem.size(), 344u * 403u);
+  double low = INFINITY, high = -INFINITY;
+  for (const auto& p : dem) low = std::min(low, p.z()), high = std::max(high, p.z());
+  EXPECT_EQ(low, 236);
+  EXPECT_EQ(high, 1076);
+  const auto& north_west = dem.front();
+  const auto& south_east = dem.back();
+  EXPECT_EQ(north_west.z(), 483);
+  EXPECT_EQ(south_east.z(), 272);
+  EXPECT_NEAR(north_west.x(), -south_east.x(), 1e-6);
+  EXPECT_NEAR(north_west.y(), -south_east.y(), 1e-6);
+  EXPECT_NEAR((dem[1] - dem[0]).x(), 74.4, 0.3);    // one column east
+  EXPECT_NEAR((dem[0] - dem[403]).y(), 92.6, 0.3);  // one row south
+  EXPECT_GT(north_west.y(), 0);
+  EXPECT_LT(north_west.x(), 0);
+  EXPECT_THROW(readDem("/nonexistent/dem.npz"), io::FormatError);
+}
+
+}  // namespace
+}  // namespace ambler::mapping
