@@ -57,6 +57,7 @@ MainWindow::MainWindow(QWidget* parent)
   views_->addTab(mesh_panel_, tr("Terrain mesh"));
   connect(mesh_panel_, &TerrainMeshPanel::overlayChanged, this, [this] {
     terrain_view_->setMeshOverlay(mesh_panel_->outlines(), mesh_panel_->pathPoints());
+    terrain_view_->setRegisteredScans(mesh_panel_->registeredScans());
   });
   splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);

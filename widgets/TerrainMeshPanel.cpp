@@ -8,6 +8,7 @@
 #include <QPainter>
 #include <QShowEvent>
 #include <QVBoxLayout>
+#include <QtConcurrent/QtConcurrentRun>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -151,17 +152,79 @@ TerrainMeshPanel::TerrainMeshPanel(QWidget* parent)
   view_->clicked = [this](const Eigen::Vector2d& xy) { pick(xy); };
   connect(cost_, &QComboBox::currentIndexChanged, this, [this] { plan(); });
   connect(max_slope_, &QDoubleSpinBox::valueChanged, this, [this] { plan(); });
+  connect(&watcher_, &QFutureWatcher<mapping::Registration>::finished, this,
+          &TerrainMeshPanel::takeRegistration);
   refresh();
 }
 
 void TerrainMeshPanel::setScan(const sensor::RangeImage& scan) {
-  cloud_ = scan.pointsInWorld();
+  clearWalkScans();
+  useCloud(scan.pointsInWorld());
+}
+
+void TerrainMeshPanel::clearWalkScans() {
+  waiting_.clear();
+  registered_.clear();
+  last_correction_ = Eigen::Isometry3d::Identity();
+  // A registration under way finishes into nothing: its result is dropped.
+  registering_.clear();
+}
+
+void TerrainMeshPanel::addWalkScan(const sensor::RangeImage& scan) {
+  waiting_.push_back(scan.pointsInWorld());
+  if (!watcher_.isRunning()) registerNext();
+  refresh();
+}
+
+// ICP takes about a second: off the GUI thread, one scan at a time.
+void TerrainMeshPanel::registerNext() {
+  if (waiting_.empty()) return;
+  registering_ = std::move(waiting_.front());
+  waiting_.pop_front();
+  if (registered_.empty()) {  // the first scan is the reference
+    registered_.push_back(std::move(registering_));
+    last_correction_ = Eigen::Isometry3d::Identity();
+    last_icp_ = {};
+    useCloud(registered_.back());
+    return registerNext();
+  }
+  icp_start_ = std::chrono::steady_clock::now();
+  watcher_.setFuture(QtConcurrent::run(
+      [source = registering_, target = registered_.back()]() -> mapping::Registration {
+        try {
+          return mapping::registerIcp(source, target, Eigen::Isometry3d::Identity());
+        } catch (const std::exception&) {
+          return {};  // too few points: kept where dead reckoning put it
+        }
+      }));
+}
+
+void TerrainMeshPanel::takeRegistration() {
+  icp_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - icp_start_)
+                .count();
+  if (!registering_.empty()) {
+    last_icp_ = watcher_.result();
+    last_correction_ = last_icp_.transform;
+    for (auto& p : registering_) p = last_correction_ * p;
+    registered_.push_back(std::move(registering_));
+    registering_.clear();
+    mapping::Cloud merged;
+    for (const auto& scan : registered_) merged.insert(merged.end(), scan.begin(), scan.end());
+    useCloud(std::move(merged));
+  }
+  registerNext();
+}
+
+void TerrainMeshPanel::useCloud(mapping::Cloud cloud) {
+  cloud_ = std::move(cloud);
   const bool had_overlay = mesh_.size() > 0;
   mesh_ = {};
   start_.reset(), goal_.reset(), path_.reset();
-  if (had_overlay) emit overlayChanged();  // the last scan's mesh is gone
   // Meshing a full scan takes a fifth of a second: only when looked at.
-  if (isVisible()) buildMesh();
+  if (isVisible())
+    buildMesh();
+  else if (had_overlay || !registered_.empty())
+    emit overlayChanged();  // the old mesh is gone; the scans changed
   refresh();
 }
 
@@ -239,11 +302,24 @@ void TerrainMeshPanel::refresh() {
   view_->path = path_ ? &*path_ : nullptr;
   view_->max_slope_deg = max_slope_->value();
   QString text;
+  if (registered_.size() > 1) {
+    const Eigen::Vector3d t = last_correction_.translation();
+    text = tr("%1 walk scans registered and merged; the last moved %2 m and %3° by ICP "
+              "(rms %4 cm, %5 s). ")
+               .arg(registered_.size())
+               .arg(t.norm(), 0, 'f', 3)
+               .arg(Eigen::AngleAxisd(last_correction_.linear()).angle() * 180 / M_PI, 0, 'f', 2)
+               .arg(100 * last_icp_.rms_m, 0, 'f', 1)
+               .arg(icp_ms_ / 1000, 0, 'f', 1);
+  }
+  if (!waiting_.empty() || watcher_.isRunning())
+    text += tr("Registering %1 scan(s)… ").arg(waiting_.size() + (watcher_.isRunning() ? 1 : 0));
   if (mesh_.size() > 0)
-    text = tr("Mesh of the last scan: %1 triangles, %2 vertices (%3 ms). ")
-               .arg(mesh_.size())
-               .arg(mesh_.vertices.size())
-               .arg(mesh_ms_, 0, 'f', 0);
+    text += tr("Mesh%1: %2 triangles, %3 vertices (%4 ms). ")
+                .arg(registered_.size() > 1 ? tr(" of the merged scans") : tr(" of the last scan"))
+                .arg(mesh_.size())
+                .arg(mesh_.vertices.size())
+                .arg(mesh_ms_, 0, 'f', 0);
   if (!start_)
     text += tr("Click the start.");
   else if (!goal_)

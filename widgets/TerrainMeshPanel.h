@@ -1,6 +1,9 @@
 #pragma once
 
+#include <QFutureWatcher>
 #include <QWidget>
+#include <chrono>
+#include <deque>
 #include <optional>
 
 #include "mapping/Registration.h"
@@ -16,12 +19,15 @@ namespace ambler::widgets {
 
 class MeshTopView;
 
-// bakambu-csa §3-4 for the operator: the last scan's ground as an
-// irregular triangle mesh seen from above, each triangle coloured by its
-// slope (red beyond the slope limit), and a path over it. The first click
-// sets the start, the second the goal and plans; the next click starts
-// again. The cost (distance, slope, high ground) and the slope limit can be
-// changed, and the path is planned again.
+// bakambu-csa §2-4 for the operator: the ground as an irregular triangle
+// mesh seen from above, each triangle coloured by its slope (red beyond the
+// slope limit), and a path over it. The first click sets the start, the
+// second the goal and plans; the next click starts again. The cost
+// (distance, slope, high ground) and the slope limit can be changed, and
+// the path is planned again. The ground is the last scan taken on demand,
+// or, during a walk, every scan of the walk: each registered by ICP (in the
+// background) against the one before from where dead reckoning put it,
+// and merged.
 class TerrainMeshPanel : public QWidget {
   Q_OBJECT
 
@@ -29,7 +35,17 @@ class TerrainMeshPanel : public QWidget {
   explicit TerrainMeshPanel(QWidget* parent = nullptr);
 
   // The scan's returns in the world frame; meshed when the panel is shown.
+  // Replaces any walk's scans.
   void setScan(const sensor::RangeImage& scan);
+  // A walk's scan, placed by dead reckoning: registered against the walk's
+  // previous scan and merged (queued while one is being registered).
+  void addWalkScan(const sensor::RangeImage& scan);
+  void clearWalkScans();
+  // The walk's scans registered so far, corrected, in the world frame.
+  const std::vector<mapping::Cloud>& registeredScans() const { return registered_; }
+  // The ICP correction of the last registered scan (identity for the first).
+  const Eigen::Isometry3d& lastCorrection() const { return last_correction_; }
+  bool registering() const { return watcher_.isRunning(); }
   // Clicks in world coordinates [m], as the view passes them on.
   void pick(const Eigen::Vector2d& world_xy);
 
@@ -46,7 +62,7 @@ class TerrainMeshPanel : public QWidget {
   std::vector<Eigen::Vector3d> pathPoints() const;
 
  signals:
-  // A new mesh, or a path planned or cleared.
+  // A new mesh, or a path planned or cleared, or a scan registered.
   void overlayChanged();
 
  protected:
@@ -56,6 +72,9 @@ class TerrainMeshPanel : public QWidget {
   void buildMesh();
   void plan();
   void refresh();
+  void useCloud(mapping::Cloud cloud);
+  void registerNext();
+  void takeRegistration();
 
   MeshTopView* view_;
   QComboBox* cost_;
@@ -67,6 +86,15 @@ class TerrainMeshPanel : public QWidget {
   std::optional<Eigen::Vector2d> start_, goal_;
   std::optional<mapping::TerrainPath> path_;
   double path_ms_ = 0.0;
+  // The walk's scans: waiting, being registered, done.
+  std::deque<mapping::Cloud> waiting_;
+  QFutureWatcher<mapping::Registration> watcher_;
+  mapping::Cloud registering_;
+  std::vector<mapping::Cloud> registered_;
+  Eigen::Isometry3d last_correction_ = Eigen::Isometry3d::Identity();
+  mapping::Registration last_icp_;
+  double icp_ms_ = 0.0;
+  std::chrono::steady_clock::time_point icp_start_;
 };
 
 }  // namespace ambler::widgets

@@ -14,6 +14,8 @@
 #include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
 
+#include <array>
+
 namespace ambler::widgets {
 
 TerrainView::TerrainView(QWidget* parent)
@@ -21,7 +23,7 @@ TerrainView::TerrainView(QWidget* parent)
       view_(new rendering::VtkView(this)),
       show_points_(new QCheckBox(this)),
       show_mesh_(new QCheckBox(this)) {
-  show_points_->setText(tr("Show scan points (eq. 1, world frame)"));
+  show_points_->setText(tr("Show scan points (world frame; a walk's registered scans in colour)"));
   show_points_->setChecked(true);
   show_mesh_->setText(tr("Show terrain mesh and path"));
   show_mesh_->setChecked(true);
@@ -42,6 +44,33 @@ void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outli
   mesh_outlines_ = std::move(outlines);
   mesh_path_ = std::move(path);
   rebuild();
+}
+
+void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans) {
+  registered_.clear();
+  for (const auto& scan : scans) {
+    const std::size_t k = std::max<std::size_t>(1, scan.size() / kDetailLimit);
+    std::vector<Eigen::Vector3f> few;
+    for (std::size_t i = 0; i < scan.size(); i += k) few.push_back(scan[i].cast<float>());
+    registered_.push_back(std::move(few));
+  }
+  rebuild();
+}
+
+// One colour per scan, in the order they came, so that where two overlap
+// the operator sees whether they agree.
+void TerrainView::addRegisteredScans(vtkRenderer* renderer) const {
+  if (!show_points_->isChecked()) return;
+  static const std::array<std::array<double, 3>, 6> kColours{{{1.0, 0.55, 0.1},
+                                                              {0.2, 0.8, 1.0},
+                                                              {0.95, 0.3, 0.9},
+                                                              {0.5, 1.0, 0.3},
+                                                              {1.0, 0.9, 0.2},
+                                                              {0.6, 0.6, 1.0}}};
+  for (std::size_t i = 0; i < registered_.size(); ++i) {
+    const auto& c = kColours[i % kColours.size()];
+    renderer->AddActor(rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
+  }
 }
 
 // Lifted a few centimetres so the ground surface does not hide them.
@@ -205,6 +234,7 @@ void TerrainView::rebuild() {
   addRover(renderer);
   addProposal(renderer);
   addMeshOverlay(renderer);
+  addRegisteredScans(renderer);
 
   if (!camera_placed_) {
     if (display_) {

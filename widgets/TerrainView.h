@@ -41,6 +41,9 @@ class TerrainView : public QWidget {
   // drawn when "Show terrain mesh" is ticked; empty ones clear them.
   void setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
                       std::vector<Eigen::Vector3d> path);
+  // A walk's scans after registration, each in its own colour, drawn with
+  // the scan points.
+  void setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans);
 
   static constexpr int kDetailLimit = 20000;  // cells or points drawn while moving
   rendering::VtkView* view() const { return view_; }
@@ -51,6 +54,7 @@ class TerrainView : public QWidget {
   void addRover(vtkRenderer* renderer) const;
   void addProposal(vtkRenderer* renderer) const;
   void addMeshOverlay(vtkRenderer* renderer) const;
+  void addRegisteredScans(vtkRenderer* renderer) const;
   void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
 
   rendering::VtkView* view_;
@@ -58,6 +62,7 @@ class TerrainView : public QWidget {
   QCheckBox* show_mesh_;
   std::vector<std::vector<Eigen::Vector3d>> mesh_outlines_;
   std::vector<Eigen::Vector3d> mesh_path_;
+  std::vector<std::vector<Eigen::Vector3f>> registered_;  // thinned for drawing
   std::optional<ScanDisplay> display_;
   std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;
   std::optional<gait::Stance> stance_;

@@ -15,6 +15,7 @@
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
+#include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
 
@@ -151,6 +152,8 @@ QString GroundStation::openSession() {
     return why;
   }
   connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
+  connect(session_.get(), &WalkSession::scanMapped, window_.meshPanel(),
+          &widgets::TerrainMeshPanel::addWalkScan);
   // The switch the operator sees decides, whenever the session was made.
   session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());
   showSession();
@@ -168,6 +171,7 @@ void GroundStation::startWalk(int steps) {
   window_.showMapView();
   session_start_s_ = missionlog::groundClockS();
   history_.clear();
+  window_.meshPanel()->clearWalkScans();
   session_->start(steps);
 }
 

@@ -63,6 +63,7 @@ void WalkSession::makeExecutive(const executive::ExecutiveOptions& options) {
   executive_->onProduct([this](double t, const std::string& kind, const std::string& parameters) {
     log_.recordProduct(t, kind, parameters);
   });
+  executive_->onScanMapped([this](const sensor::RangeImage& scan) { emit scanMapped(scan); });
 }
 
 void WalkSession::start(int steps) {

@@ -67,6 +67,8 @@ class WalkSession : public QObject {
 
  signals:
   void changed();
+  // A scan the executive has mapped (dead-reckoned pose); same thread.
+  void scanMapped(const ambler::sensor::RangeImage& scan);
 
  private:
   void poll();

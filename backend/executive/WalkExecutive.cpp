@@ -179,6 +179,7 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
 
 void WalkExecutive::planAndPropose(double now_s) {
   terrain::mergeInto(map_, terrain::buildLocusMap(*scan_, map_.grid()));
+  if (scan_sink_) scan_sink_(*scan_);
   scan_.reset();
   if (product_sink_) {
     const auto& g = map_.grid();

@@ -68,6 +68,11 @@ class WalkExecutive {
                 gait::GaitContext context, ExecutiveOptions options = {});
 
   void onProduct(ProductSink sink) { product_sink_ = std::move(sink); }
+  // Each scan as it is mapped, placed in the world by the rover's dead
+  // reckoning (for the views: registering and merging them).
+  void onScanMapped(std::function<void(const sensor::RangeImage&)> sink) {
+    scan_sink_ = std::move(sink);
+  }
 
   // The walk goal: asks for a first scan once the rover's state has come
   // (the link works); with `end_hold`, ends a hold the rover may be in
@@ -145,6 +150,7 @@ class WalkExecutive {
   std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
   double scan_time_s_ = 0.0;                // its rover time
   ProductSink product_sink_;
+  std::function<void(const sensor::RangeImage&)> scan_sink_;
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;
   std::vector<int> command_tasks_;
 };

@@ -27,6 +27,7 @@
 #include "core/Resources.h"
 #include "missionlog/MissionLog.h"
 #include "rendering/VtkView.h"
+#include "sim/CourseScene.h"
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
 #include "widgets/CommandLogView.h"
@@ -385,6 +386,49 @@ class GroundStationTest : public QObject {
     panel.costBox()->setCurrentIndex(2);
     QVERIFY(panel.path() && panel.path()->found);
     QVERIFY(panel.readout().contains("Path:"));
+  }
+
+  // A walk's scans, the second put 0.15 m and 2 degrees off by dead
+  // reckoning: ICP in the background takes it back to within 3 cm and
+  // 0.2 degrees, the mesh is of both, and the 3-D view draws both scans.
+  void meshPanelRegistersAndMergesAWalksScans() {
+    Console c;
+    auto& w = c.station.window();
+    QVERIFY(c.scan(1));  // the ground under the 3-D view
+    w.showMeshView();
+    auto& panel = *w.meshPanel();
+    const auto model = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
+    const ambler::sim::CourseScene here(1, model), on(1, model, {0.3, 2.0}, 5 * M_PI / 180);
+    const auto first = here.scan(1);
+    auto second = on.scan(2);
+    const Eigen::Isometry3d error = Eigen::Translation3d(0.15, -0.1, 0.02) *
+                                    Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ());
+    second.sensor_to_world = error * second.sensor_to_world;
+    const long long before = w.terrainView()->view()->visibleCells();
+    panel.addWalkScan(first);
+    QCOMPARE(panel.registeredScans().size(), std::size_t(1));  // the reference
+    const auto single = panel.mesh().size();
+    panel.addWalkScan(second);
+    QVERIFY(panel.registering());
+    QVERIFY(panel.readout().contains("Registering 1 scan"));
+    QTRY_VERIFY_WITH_TIMEOUT(panel.registeredScans().size() == 2, 60000);
+    const Eigen::Isometry3d residual = panel.lastCorrection() * error;
+    QVERIFY2(residual.translation().norm() < 0.03,
+             qPrintable(QString::number(residual.translation().norm())));
+    QVERIFY(Eigen::AngleAxisd(residual.linear()).angle() < 0.2 * M_PI / 180);
+    QVERIFY2(panel.readout().contains("2 walk scans registered and merged"),
+             qPrintable(panel.readout()));
+    QVERIFY(panel.mesh().size() > single);  // the second view adds ground
+    QVERIFY(w.terrainView()->view()->visibleCells() > before);
+    for (const auto& [widget, name] :
+         {std::pair<QWidget*, QString>{&panel, "terrain-mesh-merged.png"},
+          {w.terrainView(), "3d-view-registered-scans.png"}}) {
+      const QString error_text = screenshot(widget, name);
+      QVERIFY2(error_text.isEmpty(), qPrintable(error_text));
+    }
+    // A scan taken on demand replaces the walk's.
+    QVERIFY(c.scan(1));
+    QVERIFY(panel.registeredScans().empty());
   }
 
   // Screenshots of each main view into the build tree (docs/images keeps
