@@ -6,23 +6,15 @@
 
 #include <cmath>
 
+#include "backend/mapping/SimulatedView.h"
 #include "core/Resources.h"
 #include "sim/CourseScene.h"
 
 namespace ambler::mapping {
 namespace {
 
-struct View {
-  Cloud points;  // in the sensor's frame
-  Eigen::Isometry3d pose;
-};
-
-View viewFrom(std::uint64_t seed, const Eigen::Vector2d& xy, double heading) {
-  const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")), xy,
-                               heading);
-  const auto image = scene.scan(seed);
-  return {image.pointsInSensor(), image.sensor_to_world};
-}
+using test::View;
+using test::viewFrom;
 
 // The course as a model from orbital altimetry at 1 m over `region`.
 Cloud coarseModel(std::uint64_t seed, const Box2& region) {

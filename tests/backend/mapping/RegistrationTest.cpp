@@ -7,23 +7,13 @@
 #include <cmath>
 #include <random>
 
-#include "core/Resources.h"
-#include "sim/CourseScene.h"
+#include "backend/mapping/SimulatedView.h"
 
 namespace ambler::mapping {
 namespace {
 
-struct View {
-  Cloud points;  // in the sensor's frame
-  Eigen::Isometry3d pose;
-};
-
-View viewFrom(std::uint64_t seed, const Eigen::Vector2d& xy, double heading) {
-  const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")), xy,
-                               heading);
-  const auto image = scene.scan(seed);
-  return {image.pointsInSensor(), image.sensor_to_world};
-}
+using test::View;
+using test::viewFrom;
 
 Eigen::Isometry3d perturbed(const Eigen::Isometry3d& t, double metres, double degrees) {
   return t * Eigen::Translation3d(metres, -metres, 0.3 * metres) *
