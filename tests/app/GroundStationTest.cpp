@@ -216,6 +216,11 @@ class GroundStationTest : public QObject {
     QVERIFY2(banner.red() > 150 && banner.green() < 80, qPrintable(banner.name()));
     QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 60000);
     QCOMPARE(c.session().executive().stepsDone(), 2);
+    // Each step's scan reached the Terrain mesh tab and was registered; the
+    // simulated rover's dead reckoning is close, so ICP moves it little.
+    auto& mesh = *c.station.window().meshPanel();
+    QTRY_VERIFY_WITH_TIMEOUT(mesh.registeredScans().size() >= 2 && !mesh.registering(), 60000);
+    QVERIFY(mesh.lastCorrection().translation().norm() < 0.05);
   }
 
   void theEventTableAnswersEachCommand() {
