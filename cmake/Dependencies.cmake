@@ -13,8 +13,9 @@ find_package(OpenMP REQUIRED COMPONENTS CXX)
 # NumPy archives (.npz) are zips: minizip reads them (backend/io/Npz.cpp).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(MINIZIP REQUIRED IMPORTED_TARGET minizip)
-# Image processing for rock sampling (backend/sampling), its two core modules only.
-find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc)
+# Image processing for rock sampling (backend/sampling) and reading camera
+# images (backend/vision): three core modules only.
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs)
 
 find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets OpenGL OpenGLWidgets Concurrent Charts Test)
 

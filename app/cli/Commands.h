@@ -19,6 +19,7 @@ void addLog(CLI::App& app);
 void addDrive(CLI::App& app);
 void addFitRock(CLI::App& app);
 void addRegister(CLI::App& app);
+void addDanger(CLI::App& app);
 void addMesh(CLI::App& app);
 void addPath(CLI::App& app);
 // `eval link`, `eval rocks` and `eval mapping`, under the `eval` subcommand.

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   ambler::cli::addDrive(app);
   ambler::cli::addFitRock(app);
   ambler::cli::addRegister(app);
+  ambler::cli::addDanger(app);
   ambler::cli::addMesh(app);
   ambler::cli::addPath(app);
   try {

@@ -5,11 +5,13 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "TempDir.h"
 #include "io/Tiff.h"
@@ -184,6 +186,42 @@ TEST(Cli, EvalDemMeshesPlansAndLocalizesOnRealTerrain) {
   const auto bad = runCli("eval dem --dem /nonexistent.npz");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.out.find("no such file"), std::string::npos) << bad.out;
+}
+
+// A 640 x 480 grey image of bright sand with a dark rough patch near the
+// rover: danger.tif finds the patch (recall >= 0.9 at D > 0.5), the sky
+// above the horizon is NaN, and a bad camera file is named.
+TEST(Cli, DangerWritesTheDegreeOfDangerOfAnImage) {
+  TempDir dir;
+  std::mt19937 rng(1);
+  std::normal_distribution<double> sand(200, 3), rock(90, 40);
+  std::string pixels;
+  auto patch = [](int r, int c) { return r >= 380 && r < 440 && c >= 200 && c < 300; };
+  for (int r = 0; r < 480; ++r)
+    for (int c = 0; c < 640; ++c)
+      pixels += char(std::clamp(int(patch(r, c) ? rock(rng) : sand(rng)), 0, 255));
+  std::ofstream(dir / "ground.pgm", std::ios::binary) << "P5\n640 480\n255\n" << pixels;
+  const auto run =
+      runCli("danger " + (dir / "ground.pgm").string() + " --out " + (dir / "d").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  const int y_h = out["bands_rows_from_bottom"]["y_h"].get<int>();
+  const auto danger = ambler::io::readFloatTiff(dir / "d" / "danger.tif");
+  ASSERT_EQ(danger.rows, 480);
+  int in = 0, found = 0;
+  for (int r = 0; r < 480; ++r)
+    for (int c = 0; c < 640; ++c) {
+      if (479 - r >= y_h) {
+        EXPECT_TRUE(std::isnan(danger(r, c)));
+      }
+      if (patch(r, c)) ++in, found += danger(r, c) > 0.5;
+    }
+  EXPECT_GE(double(found) / in, 0.9) << found << " of " << in;
+  std::ofstream(dir / "camera.json") << R"({"rows": 480, "alpha_deg": 10, "beta_deg": 40})";
+  const auto bad = runCli("danger " + (dir / "ground.pgm").string() + " --camera " +
+                          (dir / "camera.json").string() + " --out " + (dir / "e").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("camera.json"), std::string::npos) << bad.out;
 }
 
 // eval rocks on two trays: the figures the issue asks for, per method.

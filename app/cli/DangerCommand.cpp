@@ -1,0 +1,68 @@
+// ambler-cli danger: the degree of danger of one grey-level camera image
+// (ejiri §3), as a float32 TIFF, and its bands as JSON.
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "cli/Arguments.h"
+#include "cli/Commands.h"
+#include "core/Resources.h"
+#include "io/Json.h"
+#include "io/Tiff.h"
+#include "vision/VisionFiles.h"
+
+namespace ambler::cli {
+
+namespace {
+
+struct DangerArgs {
+  std::string image, camera, out;
+  double threshold = 0.5;
+  bool json = true;  // the only output form
+};
+
+void runDanger(const DangerArgs& args) {
+  const auto camera =
+      vision::readCameraFile(args.camera.empty() ? findResource("config/camera.json")
+                                                 : std::filesystem::path(args.camera));
+  const auto image = vision::readGreyImage(args.image);
+  const auto start = std::chrono::steady_clock::now();
+  const auto danger = vision::degreeOfDanger(image, camera.camera, camera.danger);
+  const double ms = millisecondsSince(start);
+  const auto bands = vision::bandsOf(camera.camera);
+  std::size_t ground = 0, dangerous = 0;
+  for (const float d : danger.pixels)
+    if (std::isfinite(d)) ++ground, dangerous += d > args.threshold;
+  const std::filesystem::path dir(args.out);
+  std::filesystem::create_directories(dir);
+  io::writeTiff(dir / "danger.tif", danger);
+  const nlohmann::json summary{
+      {"image", args.image},
+      {"rows", image.rows},
+      {"cols", image.cols},
+      {"bands_rows_from_bottom", {{"y_v", bands.y_v}, {"y_g", bands.y_g}, {"y_h", bands.y_h}}},
+      {"threshold", args.threshold},
+      {"dangerous_fraction", ground ? double(dangerous) / double(ground) : 0.0},
+      {"danger", (dir / "danger.tif").string()},
+      {"ms", ms}};
+  io::writeJsonFile(dir / "danger.json", summary);
+  printJson(summary);
+}
+
+}  // namespace
+
+void addDanger(CLI::App& app) {
+  auto args = std::make_shared<DangerArgs>();
+  auto* cmd = app.add_subcommand(
+      "danger", "Degree of danger D(x, y) of a grey-level camera image (float32 TIFF, NaN sky)");
+  cmd->add_option("image", args->image, "grey-level image (PNG, PGM, JPEG, TIFF)")->required();
+  cmd->add_option("--camera", args->camera, "camera model JSON (default: config/camera.json)");
+  cmd->add_option("--out", args->out, "output folder")->required();
+  cmd->add_option("--threshold", args->threshold, "D above which a pixel counts as dangerous")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runDanger(*args); });
+}
+
+}  // namespace ambler::cli
