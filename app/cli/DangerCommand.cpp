@@ -1,14 +1,17 @@
 // ambler-cli danger: the degree of danger of one grey-level camera image
-// (ejiri §3), as a float32 TIFF, and its bands as JSON.
+// (ejiri §3) as a float32 TIFF, and the rough route and sensing plan on it
+// (§4) as JSON.
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
+#include "vision/RoughRoute.h"
 #include "vision/VisionFiles.h"
 
 namespace ambler::cli {
@@ -16,10 +19,39 @@ namespace ambler::cli {
 namespace {
 
 struct DangerArgs {
-  std::string image, camera, out;
+  std::string image, camera, out, goal;
   double threshold = 0.5;
   bool json = true;  // the only output form
 };
+
+// Image points in the files as (column, row from the top), like the image.
+nlohmann::json pixel(const vision::ImagePoint& p, int rows) { return {p.x, rows - 1 - p.y}; }
+
+nlohmann::json routeJson(const vision::RoughRoute& r, int rows) {
+  nlohmann::json way = nlohmann::json::array(), route = nlohmann::json::array();
+  for (const auto& p : r.way_areas) way.push_back(pixel(p, rows));
+  for (const auto& p : r.route) route.push_back(pixel(p, rows));
+  return {{"found", r.found},
+          {"reason", r.reason},
+          {"threshold", r.threshold},
+          {"start", pixel(r.start, rows)},
+          {"start_moved", r.start_moved},
+          {"destination", pixel(r.destination, rows)},
+          {"destination_moved", r.destination_moved},
+          {"way_areas", way},
+          {"route", route}};
+}
+
+nlohmann::json sensingJson(const std::vector<vision::SensingStep>& plan, int rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& s : plan)
+    out.push_back({{"band", s.band},
+                   {"from", pixel(s.from, rows)},
+                   {"to", pixel(s.to, rows)},
+                   {"safe_rate", vision::toString(s.rate)},
+                   {"action", vision::describe(s.action)}});
+  return out;
+}
 
 void runDanger(const DangerArgs& args) {
   const auto camera =
@@ -28,6 +60,13 @@ void runDanger(const DangerArgs& args) {
   const auto image = vision::readGreyImage(args.image);
   const auto start = std::chrono::steady_clock::now();
   const auto danger = vision::degreeOfDanger(image, camera.camera, camera.danger);
+  std::optional<vision::ImagePoint> goal;
+  if (!args.goal.empty()) {
+    const auto g = parseNumbers(args.goal, 2, "--goal", "COLUMN,ROW");
+    goal = vision::ImagePoint{g[0], image.rows - 1 - g[1]};
+  }
+  const auto route = vision::planRoughRoute(danger, camera.camera, goal ? &*goal : nullptr);
+  const auto sensing = vision::planSensing(danger, camera.camera, route);
   const double ms = millisecondsSince(start);
   const auto bands = vision::bandsOf(camera.camera);
   std::size_t ground = 0, dangerous = 0;
@@ -44,6 +83,8 @@ void runDanger(const DangerArgs& args) {
       {"threshold", args.threshold},
       {"dangerous_fraction", ground ? double(dangerous) / double(ground) : 0.0},
       {"danger", (dir / "danger.tif").string()},
+      {"route", routeJson(route, image.rows)},
+      {"sensing", sensingJson(sensing, image.rows)},
       {"ms", ms}};
   io::writeJsonFile(dir / "danger.json", summary);
   printJson(summary);
@@ -58,7 +99,11 @@ void addDanger(CLI::App& app) {
   cmd->add_option("image", args->image, "grey-level image (PNG, PGM, JPEG, TIFF)")->required();
   cmd->add_option("--camera", args->camera, "camera model JSON (default: config/camera.json)");
   cmd->add_option("--out", args->out, "output folder")->required();
-  cmd->add_option("--threshold", args->threshold, "D above which a pixel counts as dangerous")
+  cmd->add_option("--goal", args->goal,
+                  "destination pixel COLUMN,ROW (row from the top; default: the centre column "
+                  "just below the horizon)");
+  cmd->add_option("--threshold", args->threshold,
+                  "D above which a pixel counts in dangerous_fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");

@@ -217,6 +217,13 @@ TEST(Cli, DangerWritesTheDegreeOfDangerOfAnImage) {
       if (patch(r, c)) ++in, found += danger(r, c) > 0.5;
     }
   EXPECT_GE(double(found) / in, 0.9) << found << " of " << in;
+  // The route and the sensing plan: found, starting with F, never on the
+  // patch.
+  const auto& route = out["route"];
+  ASSERT_TRUE(route["found"].get<bool>()) << route.dump();
+  for (const auto& p : route["route"])
+    EXPECT_FALSE(patch(int(p[1].get<double>()), int(p[0].get<double>()))) << p.dump();
+  EXPECT_EQ(out["sensing"][0]["action"].get<std::string>().substr(0, 2), "F:");
   std::ofstream(dir / "camera.json") << R"({"rows": 480, "alpha_deg": 10, "beta_deg": 40})";
   const auto bad = runCli("danger " + (dir / "ground.pgm").string() + " --camera " +
                           (dir / "camera.json").string() + " --out " + (dir / "e").string());
