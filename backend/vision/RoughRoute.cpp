@@ -248,13 +248,8 @@ std::vector<SensingStep> planSensing(const io::FloatImage& danger, const CameraM
     }
     return SensingAction::kD;
   };
-  for (std::size_t leg = 0; leg + 1 < route.route.size(); ++leg) {
-    const auto& a = route.route[leg];
-    const auto& b = route.route[leg + 1];
-    const int n = std::max(1, int(std::ceil(std::max(std::abs(b.y - a.y), std::abs(b.x - a.x)))));
-    for (int i = 0; i <= n; ++i) {
-      const double s = double(i) / n;
-      const ImagePoint p{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
+  for (std::size_t leg = 0; leg + 1 < route.route.size(); ++leg)
+    for (const auto& p : samples(route.route[leg], route.route[leg + 1])) {
       const std::string band = p.y < bands.y_v ? "short" : p.y < bands.y_g ? "middle" : "long";
       if (band == "long") {
         if (steps.back().band != "long")
@@ -268,7 +263,6 @@ std::vector<SensingStep> planSensing(const io::FloatImage& danger, const CameraM
       else
         steps.push_back({band, p, p, r, act});
     }
-  }
   return steps;
 }
 
