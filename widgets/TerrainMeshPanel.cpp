@@ -158,11 +158,18 @@ TerrainMeshPanel::TerrainMeshPanel(QWidget* parent)
 }
 
 void TerrainMeshPanel::setScan(const sensor::RangeImage& scan) {
-  clearWalkScans();
+  dropWalkScans();
   useCloud(scan.pointsInWorld());
 }
 
 void TerrainMeshPanel::clearWalkScans() {
+  const bool shown = !registered_.empty();
+  dropWalkScans();
+  refresh();
+  if (shown) emit overlayChanged();  // the 3-D view drops them too
+}
+
+void TerrainMeshPanel::dropWalkScans() {
   waiting_.clear();
   registered_.clear();
   last_correction_ = Eigen::Isometry3d::Identity();

@@ -73,6 +73,7 @@ class TerrainMeshPanel : public QWidget {
   void plan();
   void refresh();
   void useCloud(mapping::Cloud cloud);
+  void dropWalkScans();
   void registerNext();
   void takeRegistration();
 
