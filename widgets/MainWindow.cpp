@@ -20,6 +20,7 @@
 
 #include "terrain/ElevationMapFile.h"
 #include "widgets/CommandLogView.h"
+#include "widgets/DangerPanel.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
 #include "widgets/SamplingPanel.h"
@@ -42,6 +43,7 @@ MainWindow::MainWindow(QWidget* parent)
       map_view_(new MapView),
       sampling_(new SamplingPanel),
       mesh_panel_(new TerrainMeshPanel),
+      danger_panel_(new DangerPanel),
       views_(new QTabWidget),
       status_(new QLabel),
       link_status_(new QLabel),
@@ -55,6 +57,7 @@ MainWindow::MainWindow(QWidget* parent)
   views_->addTab(map_view_, tr("Terrain map"));
   views_->addTab(sampling_, tr("Rock sampling"));
   views_->addTab(mesh_panel_, tr("Terrain mesh"));
+  views_->addTab(danger_panel_, tr("Danger map"));
   connect(mesh_panel_, &TerrainMeshPanel::overlayChanged, this, [this] {
     terrain_view_->setMeshOverlay(mesh_panel_->outlines(), mesh_panel_->pathPoints());
     terrain_view_->setRegisteredScans(mesh_panel_->registeredScans());
@@ -227,6 +230,8 @@ void MainWindow::showMapView() { views_->setCurrentWidget(map_view_); }
 void MainWindow::showSamplingView() { views_->setCurrentWidget(sampling_); }
 
 void MainWindow::showMeshView() { views_->setCurrentWidget(mesh_panel_); }
+
+void MainWindow::showDangerView() { views_->setCurrentWidget(danger_panel_); }
 
 void MainWindow::setLinkStatus(const QString& text, bool stale) {
   link_status_->setText(text);

@@ -50,10 +50,14 @@ class MainWindow : public QMainWindow {
     return sampling_;
   }
   void showSamplingView();
+  class DangerPanel* dangerPanel() const {
+    return danger_panel_;
+  }
   class TerrainMeshPanel* meshPanel() const {
     return mesh_panel_;
   }
   void showMeshView();
+  void showDangerView();
   TelemetryPanel* telemetry() const { return telemetry_; }
   CommandLogView* commandLog() const { return command_log_; }
   TimelineBar* timeline() const { return timeline_; }
@@ -92,6 +96,7 @@ class MainWindow : public QMainWindow {
   MapView* map_view_;
   class SamplingPanel* sampling_;
   class TerrainMeshPanel* mesh_panel_;
+  class DangerPanel* danger_panel_;
   class QTabWidget* views_;
   QLabel* status_;
   QString status_text_;

@@ -21,6 +21,7 @@
 #include <QTemporaryDir>
 #include <QToolBar>
 #include <QtTest/QtTest>
+#include <random>
 #include <set>
 
 #include "app/gs/GroundStation.h"
@@ -31,6 +32,7 @@
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
 #include "widgets/CommandLogView.h"
+#include "widgets/DangerPanel.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
 #include "widgets/SamplingPanel.h"
@@ -434,6 +436,28 @@ class GroundStationTest : public QObject {
     // A scan taken on demand replaces the walk's.
     QVERIFY(c.scan(1));
     QVERIFY(panel.registeredScans().empty());
+  }
+
+  // A camera image of sand with a rock field across the way ahead: the
+  // Danger map tab shows D, the route around the rocks and the sensing plan.
+  void dangerPanelShowsTheRouteAroundARock() {
+    Console c;
+    auto& w = c.station.window();
+    auto& panel = *w.dangerPanel();
+    std::mt19937 rng(5);
+    std::normal_distribution<float> sand(200.0f, 3.0f), rock(90.0f, 40.0f);
+    ambler::io::FloatImage image(480, 640);
+    for (int r = 0; r < 480; ++r)
+      for (int col = 0; col < 640; ++col)
+        image(r, col) = (r >= 300 && r < 330 && col >= 250 && col < 420) ? rock(rng) : sand(rng);
+    QVERIFY2(panel.setImage(image, "rocks ahead").isEmpty(), qPrintable(panel.readout()));
+    QVERIFY(panel.route() && panel.route()->found);
+    QVERIFY(!panel.route()->way_areas.empty());
+    QVERIFY2(panel.readout().contains("F: turn to the destination"), qPrintable(panel.readout()));
+    w.showDangerView();
+    const QString error = screenshot(&panel, "danger-map.png");
+    QVERIFY2(error.isEmpty(), qPrintable(error));
+    QVERIFY(panel.openImage("/nonexistent/camera.png").contains("does not exist"));
   }
 
   // Screenshots of each main view into the build tree (docs/images keeps
