@@ -119,7 +119,12 @@ QImage blended(const io::FloatImage& grey, const io::FloatImage& danger) {
 
 DangerPanel::DangerPanel(QWidget* parent)
     : QWidget(parent), view_(new DangerImageView), readout_(new QLabel) {
-  camera_ = vision::readCameraFile(findResource("config/camera.json"));
+  QString camera_error;
+  try {
+    camera_ = vision::readCameraFile(findResource("config/camera.json"));
+  } catch (const std::exception& e) {  // the built-in defaults, and say so
+    camera_error = tr("Camera file unusable (%1); using the built-in camera. ").arg(e.what());
+  }
   auto* open = new QPushButton(tr("Open camera image…"));
   auto* bar = new QHBoxLayout;
   bar->addWidget(open);
@@ -136,7 +141,8 @@ DangerPanel::DangerPanel(QWidget* parent)
   layout->addWidget(view_, 1);
   layout->addWidget(readout_);
   connect(open, &QPushButton::clicked, this, &DangerPanel::chooseImage);
-  readout_->setText(tr("Open a grey-level camera image to see its degree of danger."));
+  readout_->setText(camera_error +
+                    tr("Open a grey-level camera image to see its degree of danger."));
 }
 
 void DangerPanel::chooseImage() {
