@@ -27,6 +27,7 @@ void addEvalLink(CLI::App& eval);
 void addEvalRocks(CLI::App& eval);
 void addEvalMapping(CLI::App& eval);
 void addEvalDem(CLI::App& eval);
+void addEvalDanger(CLI::App& eval);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

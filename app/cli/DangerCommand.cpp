@@ -11,6 +11,8 @@
 #include "core/Resources.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
+#include "sim/CameraRender.h"
+#include "sim/CourseScene.h"
 #include "vision/RoughRoute.h"
 #include "vision/VisionFiles.h"
 
@@ -90,7 +92,82 @@ void runDanger(const DangerArgs& args) {
   printJson(summary);
 }
 
+struct EvalDangerArgs {
+  std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5};
+  std::vector<double> headings_deg{0, 90, 180, 270};
+  bool json = true;  // the only output form
+};
+
+// Images the simulator shades (no planetary images are packaged): D
+// against the pixels that see a feature standing off the ground, and the
+// route against them.
+void runEvalDanger(const EvalDangerArgs& args) {
+  const auto camera = vision::readCameraFile(findResource("config/camera.json"));
+  sim::CameraShot shot;
+  shot.rows = camera.camera.rows;
+  shot.alpha_deg = camera.camera.alpha_deg;
+  shot.beta_deg = camera.camera.beta_deg;
+  shot.height_m = camera.camera.height_m;
+  std::vector<double> recall, precision, on_rough, ms;
+  int routes = 0, cases = 0;
+  for (const auto seed : args.seeds) {
+    const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")));
+    for (const double heading : args.headings_deg) {
+      shot.heading = heading * M_PI / 180;
+      shot.texture_seed = seed;
+      const auto render = sim::renderCamera(scene.terrain(), scene.caster(), shot,
+                                            0.5 * camera.camera.wheel_diameter_m);
+      const auto start = std::chrono::steady_clock::now();
+      const auto danger = vision::degreeOfDanger(render.grey, camera.camera, camera.danger);
+      const auto route = vision::planRoughRoute(danger, camera.camera);
+      ms.push_back(millisecondsSince(start));
+      ++cases;
+      std::size_t rough = 0, found = 0, flagged = 0;
+      for (std::size_t i = 0; i < danger.pixels.size(); ++i) {
+        if (!std::isfinite(danger.pixels[i]) || render.rough.pixels[i] == 255) continue;
+        const bool dangerous = danger.pixels[i] > route.threshold;
+        rough += render.rough.pixels[i] == 1;
+        found += dangerous && render.rough.pixels[i] == 1;
+        flagged += dangerous;
+      }
+      if (rough > 0) recall.push_back(double(found) / double(rough));
+      if (flagged > 0) precision.push_back(double(found) / double(flagged));
+      if (!route.found) continue;
+      ++routes;
+      std::size_t points = 0, bad = 0;
+      for (std::size_t leg = 0; leg + 1 < route.route.size(); ++leg)
+        for (double t = 0; t <= 1.0; t += 0.002, ++points) {
+          const auto& a = route.route[leg];
+          const auto& b = route.route[leg + 1];
+          const int col = int(std::lround(a.x + t * (b.x - a.x)));
+          const int row = danger.rows - 1 - int(std::lround(a.y + t * (b.y - a.y)));
+          bad += render.rough(row, col) == 1;
+        }
+      on_rough.push_back(points ? double(bad) / double(points) : 0.0);
+    }
+  }
+  printJson({{"cases", cases},
+             {"rough_rule", "the pixel sees a feature more than half a wheel off the ground"},
+             {"recall", distribution(recall)},
+             {"precision", distribution(precision)},
+             {"routes_found", routes},
+             {"route_share_on_rough", distribution(on_rough)},
+             {"ms", distribution(ms)}});
+}
+
 }  // namespace
+
+void addEvalDanger(CLI::App& eval) {
+  auto args = std::make_shared<EvalDangerArgs>();
+  auto* cmd = eval.add_subcommand(
+      "danger", "Degree of danger and rough route on camera images the simulator shades");
+  cmd->add_option("--seeds", args->seeds, "course seeds")->delimiter(',')->capture_default_str();
+  cmd->add_option("--headings", args->headings_deg, "camera headings [deg]")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { runEvalDanger(*args); });
+}
 
 void addDanger(CLI::App& app) {
   auto args = std::make_shared<DangerArgs>();

@@ -160,6 +160,7 @@ void addEval(CLI::App& app) {
   addEvalRocks(*eval);
   addEvalMapping(*eval);
   addEvalDem(*eval);
+  addEvalDanger(*eval);
 }
 
 }  // namespace ambler::cli

@@ -231,6 +231,18 @@ TEST(Cli, DangerWritesTheDegreeOfDangerOfAnImage) {
   EXPECT_NE(bad.out.find("camera.json"), std::string::npos) << bad.out;
 }
 
+// Shaded images of course 1 from the simulator, facing the box and the
+// ramp (0 deg) and across the course (90 deg): most of their pixels are
+// dangerous, and the route found keeps off them.
+TEST(Cli, EvalDangerOnShadedCourseImages) {
+  const auto run = runCli("eval danger --seeds 1 --headings 0,90 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto out = nlohmann::json::parse(run.out);
+  EXPECT_GE(out["recall"]["median"].get<double>(), 0.8) << out.dump();
+  ASSERT_GE(out["routes_found"].get<int>(), 1);
+  EXPECT_EQ(out["route_share_on_rough"]["max"].get<double>(), 0.0);
+}
+
 // eval rocks on two trays: the figures the issue asks for, per method.
 TEST(Cli, EvalRocksReportsEachMethod) {
   const auto run = runCli("eval rocks --seeds 1,2 --json");
