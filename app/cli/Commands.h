@@ -10,6 +10,7 @@ namespace ambler::cli {
 // and throws on failure (main turns that into a message and exit code 1).
 void addSimScan(CLI::App& app);
 void addSimStriper(CLI::App& app);
+void addSimCamera(CLI::App& app);
 void addInfo(CLI::App& app);
 void addMap(CLI::App& app);
 void addEval(CLI::App& app);

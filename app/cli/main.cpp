@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
   ambler::cli::addSimStriper(app);
+  ambler::cli::addSimCamera(app);
   ambler::cli::addInfo(app);
   ambler::cli::addMap(app);
   ambler::cli::addEval(app);

@@ -241,6 +241,17 @@ TEST(Cli, EvalDangerOnShadedCourseImages) {
   EXPECT_GE(out["recall"]["median"].get<double>(), 0.8) << out.dump();
   ASSERT_GE(out["routes_found"].get<int>(), 1);
   EXPECT_EQ(out["route_share_on_rough"]["max"].get<double>(), 0.0);
+  // The same image as files, for the Danger map tab or `danger`.
+  TempDir dir;
+  const auto shot = runCli("sim-camera --seed 1 --at 0,0,90 --out " + (dir / "cam").string());
+  ASSERT_EQ(shot.exit_code, 0) << shot.out;
+  const auto image = ambler::io::readByteTiff(dir / "cam" / "image.tif");
+  EXPECT_EQ(image.rows, 480);
+  EXPECT_EQ(image.cols, 640);
+  const auto danger =
+      runCli("danger " + (dir / "cam" / "image.tif").string() + " --out " + (dir / "d").string());
+  ASSERT_EQ(danger.exit_code, 0) << danger.out;
+  EXPECT_TRUE(nlohmann::json::parse(danger.out)["route"]["found"].get<bool>());
 }
 
 // eval rocks on two trays: the figures the issue asks for, per method.
