@@ -2,6 +2,7 @@
 // (ejiri §3) as a float32 TIFF, and the rough route and sensing plan on it
 // (§4) as JSON.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -92,6 +93,18 @@ void runDanger(const DangerArgs& args) {
   printJson(summary);
 }
 
+// The course seen by the camera of `camera` from the rover at `xy` facing
+// `heading` [rad], shaded by the simulator, with its rough-pixel truth.
+sim::RenderedImage shadedCourse(const sim::CourseScene& scene, const vision::CameraModel& camera,
+                                const Eigen::Vector2d& xy, double heading,
+                                std::uint64_t texture_seed) {
+  sim::CameraShot shot;
+  shot.rows = camera.rows, shot.alpha_deg = camera.alpha_deg, shot.beta_deg = camera.beta_deg;
+  shot.height_m = camera.height_m, shot.ground_xy = xy, shot.heading = heading;
+  shot.texture_seed = texture_seed;
+  return sim::renderCamera(scene.terrain(), scene.caster(), shot, 0.5 * camera.wheel_diameter_m);
+}
+
 struct EvalDangerArgs {
   std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5};
   std::vector<double> headings_deg{0, 90, 180, 270};
@@ -103,20 +116,13 @@ struct EvalDangerArgs {
 // route against them.
 void runEvalDanger(const EvalDangerArgs& args) {
   const auto camera = vision::readCameraFile(findResource("config/camera.json"));
-  sim::CameraShot shot;
-  shot.rows = camera.camera.rows;
-  shot.alpha_deg = camera.camera.alpha_deg;
-  shot.beta_deg = camera.camera.beta_deg;
-  shot.height_m = camera.camera.height_m;
   std::vector<double> recall, precision, on_rough, ms;
   int routes = 0, cases = 0;
   for (const auto seed : args.seeds) {
     const sim::CourseScene scene(seed, sim::readScannerModel(findResource("config/scanner.json")));
     for (const double heading : args.headings_deg) {
-      shot.heading = heading * M_PI / 180;
-      shot.texture_seed = seed;
-      const auto render = sim::renderCamera(scene.terrain(), scene.caster(), shot,
-                                            0.5 * camera.camera.wheel_diameter_m);
+      const auto render =
+          shadedCourse(scene, camera.camera, Eigen::Vector2d::Zero(), heading * M_PI / 180, seed);
       const auto start = std::chrono::steady_clock::now();
       const auto danger = vision::degreeOfDanger(render.grey, camera.camera, camera.danger);
       const auto route = vision::planRoughRoute(danger, camera.camera);
@@ -156,6 +162,42 @@ void runEvalDanger(const EvalDangerArgs& args) {
 }
 
 }  // namespace
+
+void addSimCamera(CLI::App& app) {
+  struct Args {
+    std::uint64_t seed = 1;
+    std::string at = "0,0,0", out;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "sim-camera",
+      "Shade a grey-level payload-camera image of the obstacle course (config/camera.json)");
+  cmd->add_option("--seed", args->seed, "course seed")->capture_default_str();
+  cmd->add_option("--at", args->at, "rover position X,Y [m] and heading [deg, 0: +y]")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "output folder")->required();
+  cmd->callback([args] {
+    const auto at = parseNumbers(args->at, 3, "--at", "X,Y,HEADING_DEG");
+    const auto camera = vision::readCameraFile(findResource("config/camera.json")).camera;
+    const sim::CourseScene scene(args->seed,
+                                 sim::readScannerModel(findResource("config/scanner.json")));
+    const auto render = shadedCourse(scene, camera, {at[0], at[1]}, at[2] * M_PI / 180, args->seed);
+    io::ByteImage grey(render.grey.rows, render.grey.cols);
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i)
+      grey.pixels[i] = static_cast<unsigned char>(std::lround(render.grey.pixels[i]));
+    const std::filesystem::path dir(args->out);
+    std::filesystem::create_directories(dir);
+    io::writeTiff(dir / "image.tif", grey);
+    io::writeTiff(dir / "rough.tif", render.rough);
+    printJson(
+        {{"image", (dir / "image.tif").string()},
+         {"rough", (dir / "rough.tif").string()},
+         {"rows", grey.rows},
+         {"cols", grey.cols},
+         {"rough_codes",
+          {{"0", "ground"}, {"1", "rough: a feature > T/2 off the ground"}, {"255", "sky"}}}});
+  });
+}
 
 void addEvalDanger(CLI::App& eval) {
   auto args = std::make_shared<EvalDangerArgs>();

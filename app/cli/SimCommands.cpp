@@ -1,4 +1,3 @@
-#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -11,10 +10,8 @@
 #include "mapping/MappingFiles.h"
 #include "sensor/RangeImageFile.h"
 #include "sensor/StriperImageFile.h"
-#include "sim/CameraRender.h"
 #include "sim/CourseScene.h"
 #include "sim/StriperSim.h"
-#include "vision/VisionFiles.h"
 
 namespace ambler::cli {
 
@@ -136,47 +133,6 @@ void addSimScan(CLI::App& app) {
   cmd->add_option("--at", args->at, "rover position X,Y [m] and heading [deg, 0: +y]")
       ->capture_default_str();
   cmd->callback([args] { runSimScan(*args); });
-}
-
-void addSimCamera(CLI::App& app) {
-  struct Args {
-    std::uint64_t seed = 1;
-    std::string at = "0,0,0", out;
-  };
-  auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand(
-      "sim-camera",
-      "Shade a grey-level payload-camera image of the obstacle course (config/camera.json)");
-  cmd->add_option("--seed", args->seed, "course seed")->capture_default_str();
-  cmd->add_option("--at", args->at, "rover position X,Y [m] and heading [deg, 0: +y]")
-      ->capture_default_str();
-  cmd->add_option("--out", args->out, "output folder")->required();
-  cmd->callback([args] {
-    const auto at = parseNumbers(args->at, 3, "--at", "X,Y,HEADING_DEG");
-    const auto camera = vision::readCameraFile(findResource("config/camera.json")).camera;
-    const sim::CourseScene scene(args->seed,
-                                 sim::readScannerModel(findResource("config/scanner.json")));
-    sim::CameraShot shot;
-    shot.rows = camera.rows, shot.alpha_deg = camera.alpha_deg, shot.beta_deg = camera.beta_deg;
-    shot.height_m = camera.height_m, shot.ground_xy = {at[0], at[1]}, shot.heading = at[2] * kDeg;
-    shot.texture_seed = args->seed;
-    const auto render =
-        sim::renderCamera(scene.terrain(), scene.caster(), shot, 0.5 * camera.wheel_diameter_m);
-    io::ByteImage grey(render.grey.rows, render.grey.cols);
-    for (std::size_t i = 0; i < grey.pixels.size(); ++i)
-      grey.pixels[i] = static_cast<unsigned char>(std::lround(render.grey.pixels[i]));
-    const std::filesystem::path dir(args->out);
-    std::filesystem::create_directories(dir);
-    io::writeTiff(dir / "image.tif", grey);
-    io::writeTiff(dir / "rough.tif", render.rough);
-    printJson(
-        {{"image", (dir / "image.tif").string()},
-         {"rough", (dir / "rough.tif").string()},
-         {"rows", grey.rows},
-         {"cols", grey.cols},
-         {"rough_codes",
-          {{"0", "ground"}, {"1", "rough: a feature > T/2 off the ground"}, {"255", "sky"}}}});
-  });
 }
 
 void addSimStriper(CLI::App& app) {
