@@ -114,7 +114,7 @@ struct EvalDangerArgs {
 // Images the simulator shades (no planetary images are packaged): D
 // against the pixels that see a feature standing off the ground, and the
 // route against them.
-void runEvalDanger(const EvalDangerArgs& args) {
+nlohmann::json evalDanger(const EvalDangerArgs& args) {
   const auto camera = vision::readCameraFile(findResource("config/camera.json"));
   std::vector<double> recall, precision, on_rough, ms;
   int routes = 0, cases = 0;
@@ -152,13 +152,13 @@ void runEvalDanger(const EvalDangerArgs& args) {
       on_rough.push_back(points ? double(bad) / double(points) : 0.0);
     }
   }
-  printJson({{"cases", cases},
-             {"rough_rule", "the pixel sees a feature more than half a wheel off the ground"},
-             {"recall", distribution(recall)},
-             {"precision", distribution(precision)},
-             {"routes_found", routes},
-             {"route_share_on_rough", distribution(on_rough)},
-             {"ms", distribution(ms)}});
+  return {{"cases", cases},
+          {"rough_rule", "the pixel sees a feature more than half a wheel off the ground"},
+          {"recall", distribution(recall)},
+          {"precision", distribution(precision)},
+          {"routes_found", routes},
+          {"route_share_on_rough", distribution(on_rough)},
+          {"ms", distribution(ms)}};
 }
 
 }  // namespace
@@ -199,7 +199,8 @@ void addSimCamera(CLI::App& app) {
   });
 }
 
-void addEvalDanger(CLI::App& eval) {
+void addEvalDanger(CLI::App& eval, Evaluations& all) {
+  all.push_back({"danger", [] { return evalDanger(EvalDangerArgs{}); }});
   auto args = std::make_shared<EvalDangerArgs>();
   auto* cmd = eval.add_subcommand(
       "danger", "Degree of danger and rough route on camera images the simulator shades");
@@ -208,7 +209,7 @@ void addEvalDanger(CLI::App& eval) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
-  cmd->callback([args] { runEvalDanger(*args); });
+  cmd->callback([args] { printJson(evalDanger(*args)); });
 }
 
 void addDanger(CLI::App& app) {

@@ -84,7 +84,7 @@ void printTable(const nlohmann::json& report) {
     }
 }
 
-void runEvalElevation(const EvalElevationArgs& a) {
+nlohmann::json evalElevation(const EvalElevationArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const auto base = sim::readScannerModel(findResource("config/scanner.json"));
   const Box2 region = parseRegion(a.region);
@@ -121,10 +121,7 @@ void runEvalElevation(const EvalElevationArgs& a) {
       {"edge_noise_sigmas", a.edges.noise_sigmas},
       {"methods", {{"locus", methodJson(locus)}, {"binning", methodJson(binning)}}},
       {"elapsed_ms", millisecondsSince(start)}};
-  if (a.json)
-    printJson(report);
-  else
-    printTable(report);
+  return report;
 }
 
 }  // namespace
@@ -155,12 +152,25 @@ void addEval(CLI::App& app) {
       ->capture_default_str();
   addEdgeOptions(*cmd, args->edges);
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
-  cmd->callback([args] { runEvalElevation(*args); });
-  addEvalLink(*eval);
-  addEvalRocks(*eval);
-  addEvalMapping(*eval);
-  addEvalDem(*eval);
-  addEvalDanger(*eval);
+  cmd->callback([args] {
+    const auto report = evalElevation(*args);
+    if (args->json)
+      printJson(report);
+    else
+      printTable(report);
+  });
+  auto all = std::make_shared<Evaluations>();
+  all->push_back({"elevation", [] {
+                    EvalElevationArgs defaults;
+                    return evalElevation(defaults);
+                  }});
+  addEvalWalk(*eval, *all);
+  addEvalLink(*eval, *all);
+  addEvalRocks(*eval, *all);
+  addEvalMapping(*eval, *all);
+  addEvalDem(*eval, *all);
+  addEvalDanger(*eval, *all);
+  addEvalAll(*eval, all);
 }
 
 }  // namespace ambler::cli

@@ -82,7 +82,7 @@ bool ackOf(const link::Telemetry& t, std::uint64_t sequence) {
   return a && a->sequence == sequence;
 }
 
-void runEvalLink(const EvalLinkArgs& a) {
+nlohmann::json evalLink(const EvalLinkArgs& a) {
   const auto dir =
       std::filesystem::temp_directory_path() / ("ambler-eval-link-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -151,12 +151,13 @@ void runEvalLink(const EvalLinkArgs& a) {
       {"range_image_kb", image_kb},
       {"range_images_include", "ray casting in ambler-sim, DDS transfer, mission log write"},
       {"domain", a.domain}};
-  printJson(report);
+  return report;
 }
 
 }  // namespace
 
-void addEvalLink(CLI::App& eval) {
+void addEvalLink(CLI::App& eval, Evaluations& all) {
+  all.push_back({"link", [] { return evalLink(EvalLinkArgs{}); }});
   auto args = std::make_shared<EvalLinkArgs>();
   auto* cmd = eval.add_subcommand(
       "link", "Command round trip and range-image rate through DDS to ambler-sim and back");
@@ -171,7 +172,7 @@ void addEvalLink(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--sim", args->sim, "ambler-sim to start (default: next to ambler-cli)");
   cmd->add_flag("--json", args->json, "print JSON (the only output format)");
-  cmd->callback([args] { runEvalLink(*args); });
+  cmd->callback([args] { printJson(evalLink(*args)); });
 }
 
 }  // namespace ambler::cli

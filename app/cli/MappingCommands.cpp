@@ -67,7 +67,7 @@ struct EvalMappingArgs {
   bool json = true;  // the only output form
 };
 
-void runEvalMapping(const EvalMappingArgs& args) {
+nlohmann::json evalMapping(const EvalMappingArgs& args) {
   const auto model = sim::readScannerModel(findResource("config/scanner.json"));
   std::vector<double> trans_pct, rot_deg, icp_ms, global_s, global_err_m, triangles, path_m,
       path_ms;
@@ -118,18 +118,18 @@ void runEvalMapping(const EvalMappingArgs& args) {
     path_ms.push_back(millisecondsSince(start));
     if (path.found) ++paths_found, path_m.push_back(path.length_m);
   }
-  printJson({{"cases", args.seeds.size()},
-             {"icp_trans_err_pct_of_distance", distribution(trans_pct)},
-             {"icp_rot_err_deg", distribution(rot_deg)},
-             {"icp_ms", distribution(icp_ms)},
-             {"global_loc_success_rate", double(global_ok) / double(args.seeds.size())},
-             {"global_loc_success_rule", "within 0.5 m and 2 deg of the true pose"},
-             {"global_loc_err_m", distribution(global_err_m)},
-             {"global_loc_s", distribution(global_s)},
-             {"mesh_triangles", distribution(triangles)},
-             {"paths_found", paths_found},
-             {"path_len_m", distribution(path_m)},
-             {"path_ms", distribution(path_ms)}});
+  return {{"cases", args.seeds.size()},
+          {"icp_trans_err_pct_of_distance", distribution(trans_pct)},
+          {"icp_rot_err_deg", distribution(rot_deg)},
+          {"icp_ms", distribution(icp_ms)},
+          {"global_loc_success_rate", double(global_ok) / double(args.seeds.size())},
+          {"global_loc_success_rule", "within 0.5 m and 2 deg of the true pose"},
+          {"global_loc_err_m", distribution(global_err_m)},
+          {"global_loc_s", distribution(global_s)},
+          {"mesh_triangles", distribution(triangles)},
+          {"paths_found", paths_found},
+          {"path_len_m", distribution(path_m)},
+          {"path_ms", distribution(path_ms)}};
 }
 
 // USGS's DEM of the Jacksboro fault, Tennessee (3 arc-seconds, 344 x 403),
@@ -164,7 +164,7 @@ mapping::Cloud blockMeans(const mapping::Cloud& cloud, double cell) {
 
 // The mapping module on real terrain: the DEM meshed, a path across it, and
 // windows of it, turned and moved, found in its block-mean model.
-void runEvalDem(const EvalDemArgs& args) {
+nlohmann::json evalDem(const EvalDemArgs& args) {
   const auto cloud = mapping::readDem(args.dem);
   Eigen::Vector2d lo = cloud[0].head<2>(), hi = lo;
   for (const auto& p : cloud) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
@@ -215,32 +215,32 @@ void runEvalDem(const EvalDemArgs& args) {
     err_deg.push_back(std::abs(std::remainder(got - yaw, 2 * M_PI)) * 180 / M_PI);
     found += err_m.back() < 0.5 * args.cell_m && err_deg.back() < 2.0;
   }
-  printJson({{"dem", args.dem},
-             {"points", cloud.size()},
-             {"extent_m", {hi.x() - lo.x(), hi.y() - lo.y()}},
-             {"spacing_m", spacing},
-             {"mesh_triangles", mesh.size()},
-             {"mesh_ms", mesh_ms},
-             {"path",
-              {{"found", path.found},
-               {"reason", path.reason},
-               {"len_m", path.length_m},
-               {"waypoints", path.simplified.size()},
-               {"raw_waypoints", path.raw.size()},
-               {"cost_value", path.simplified_cost},
-               {"raw_cost_value", path.raw_cost},
-               {"steepest_triangle_deg", steepest},
-               {"max_slope_deg", args.max_slope_deg},
-               {"ms", path_ms}}},
-             {"global_loc",
-              {{"windows", args.windows},
-               {"window_m", args.window_m},
-               {"model_cell_m", args.cell_m},
-               {"success_rate", double(found) / args.windows},
-               {"success_rule", "within half a model cell and 2 deg"},
-               {"err_m", distribution(err_m)},
-               {"err_deg", distribution(err_deg)},
-               {"s", distribution(seconds)}}}});
+  return {{"dem", args.dem},
+          {"points", cloud.size()},
+          {"extent_m", {hi.x() - lo.x(), hi.y() - lo.y()}},
+          {"spacing_m", spacing},
+          {"mesh_triangles", mesh.size()},
+          {"mesh_ms", mesh_ms},
+          {"path",
+           {{"found", path.found},
+            {"reason", path.reason},
+            {"len_m", path.length_m},
+            {"waypoints", path.simplified.size()},
+            {"raw_waypoints", path.raw.size()},
+            {"cost_value", path.simplified_cost},
+            {"raw_cost_value", path.raw_cost},
+            {"steepest_triangle_deg", steepest},
+            {"max_slope_deg", args.max_slope_deg},
+            {"ms", path_ms}}},
+          {"global_loc",
+           {{"windows", args.windows},
+            {"window_m", args.window_m},
+            {"model_cell_m", args.cell_m},
+            {"success_rate", double(found) / args.windows},
+            {"success_rule", "within half a model cell and 2 deg"},
+            {"err_m", distribution(err_m)},
+            {"err_deg", distribution(err_deg)},
+            {"s", distribution(seconds)}}}};
 }
 
 struct RegisterArgs {
@@ -417,7 +417,8 @@ void addPath(CLI::App& app) {
   cmd->callback([args] { runPath(*args); });
 }
 
-void addEvalDem(CLI::App& eval) {
+void addEvalDem(CLI::App& eval, Evaluations& all) {
+  all.push_back({"dem", [] { return evalDem(EvalDemArgs{}); }});
   auto args = std::make_shared<EvalDemArgs>();
   auto* cmd = eval.add_subcommand(
       "dem",
@@ -439,10 +440,11 @@ void addEvalDem(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "windows' places and headings")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
-  cmd->callback([args] { runEvalDem(*args); });
+  cmd->callback([args] { printJson(evalDem(*args)); });
 }
 
-void addEvalMapping(CLI::App& eval) {
+void addEvalMapping(CLI::App& eval, Evaluations& all) {
+  all.push_back({"mapping", [] { return evalMapping(EvalMappingArgs{}); }});
   auto args = std::make_shared<EvalMappingArgs>();
   auto* cmd = eval.add_subcommand(
       "mapping",
@@ -452,7 +454,7 @@ void addEvalMapping(CLI::App& eval) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
-  cmd->callback([args] { runEvalMapping(*args); });
+  cmd->callback([args] { printJson(evalMapping(*args)); });
 }
 
 }  // namespace ambler::cli

@@ -161,7 +161,7 @@ struct EvalRocksArgs {
   bool json = true;  // the only output form
 };
 
-void runEvalRocks(const EvalRocksArgs& args) {
+nlohmann::json evalRocks(const EvalRocksArgs& args) {
   nlohmann::json report{
       {"scenes", args.seeds.size()}, {"noise_m", args.noise}, {"outlier_share", args.outliers}};
   // Isolated rocks resting on the sand (up to a fifth of their height in
@@ -185,7 +185,7 @@ void runEvalRocks(const EvalRocksArgs& args) {
     }
     report[name] = condition;
   }
-  printJson(report);
+  return report;
 }
 
 struct FitRockArgs {
@@ -265,7 +265,8 @@ void runFitRock(const FitRockArgs& args) {
 
 }  // namespace
 
-void addEvalRocks(CLI::App& eval) {
+void addEvalRocks(CLI::App& eval, Evaluations& all) {
+  all.push_back({"rocks", [] { return evalRocks(EvalRocksArgs{}); }});
   auto args = std::make_shared<EvalRocksArgs>();
   auto* cmd = eval.add_subcommand(
       "rocks",
@@ -279,7 +280,7 @@ void addEvalRocks(CLI::App& eval) {
       ->check(CLI::Range(0.0, 0.9))
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
-  cmd->callback([args] { runEvalRocks(*args); });
+  cmd->callback([args] { printJson(evalRocks(*args)); });
 }
 
 void addFitRock(CLI::App& app) {

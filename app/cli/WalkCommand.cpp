@@ -66,14 +66,46 @@ nlohmann::json resultJson(const walk::WalkResult& r, bool concurrent, bool log) 
   return out;
 }
 
-void runWalk(const WalkArgs& a) {
+struct Comparison {
+  walk::WalkResult concurrent, sequential;
+  double time_scale = 0.0;
+  std::string time_scale_source = "given";
+};
+
+// The same walk planned concurrently and one step after the other. Without
+// a given scale, execution is scaled to the Ambler's ratio to its ground
+// work, measured on a sequential walk without waiting.
+Comparison compareModes(const walk::WalkConfig& config, walk::WalkOptions o) {
+  Comparison c;
+  if (o.time_scale == 0.0) {
+    o.concurrent = false;
+    o.time_scale = walk::timeScaleOfTheReport(walk::runWalk(config, o));
+    c.time_scale_source = "cmu-1990 fig. 6: execution takes 0.75 of the ground's work";
+  }
+  c.time_scale = o.time_scale;
+  // Each is walked once first to warm the process up (the first walk in a
+  // process pays for fresh memory), then timed.
+  auto walkAs = [&](bool concurrent) {
+    o.concurrent = concurrent;
+    walk::runWalk(config, o);
+    return walk::runWalk(config, o);
+  };
+  c.concurrent = walkAs(true);
+  c.sequential = walkAs(false);
+  return c;
+}
+
+walk::WalkConfig readConfig(const WalkArgs& a) {
   auto config_path = [](const std::string& given, const char* resource) {
     return given.empty() ? findResource(resource) : fs::path(given);
   };
-  const auto config =
-      walk::readWalkConfig(config_path(a.rover_config, "config/rover.json"),
-                           config_path(a.footfall_config, "config/footfall.json"),
-                           config_path(a.scanner_config, "config/rover-scanner.json"));
+  return walk::readWalkConfig(config_path(a.rover_config, "config/rover.json"),
+                              config_path(a.footfall_config, "config/footfall.json"),
+                              config_path(a.scanner_config, "config/rover-scanner.json"));
+}
+
+void runWalk(const WalkArgs& a) {
+  const auto config = readConfig(a);
   walk::WalkOptions o;
   o.seed = std::uint64_t(a.seed);
   o.steps = a.steps;
@@ -90,31 +122,58 @@ void runWalk(const WalkArgs& a) {
     printJson(out);
     return;
   }
-  // Without a given scale, execution is scaled to the Ambler's ratio to its
-  // ground work, measured on a sequential walk without waiting.
-  std::string scale_source = "given";
-  if (a.time_scale == 0.0) {
-    o.concurrent = false;
-    o.time_scale = walk::timeScaleOfTheReport(walk::runWalk(config, o));
-    scale_source = "cmu-1990 fig. 6: execution takes 0.75 of the ground's work";
-  }
-  // The same walk planned concurrently and one step after the other. Each
-  // is walked once first to warm the process up (the first walk in a
-  // process pays for fresh memory), then timed.
-  auto walkAs = [&](bool concurrent) {
-    o.concurrent = concurrent;
-    walk::runWalk(config, o);
-    return walk::runWalk(config, o);
-  };
-  const auto concurrent = walkAs(true);
-  const auto sequential = walkAs(false);
+  const auto c = compareModes(config, o);
+  const auto& concurrent = c.concurrent;
+  const auto& sequential = c.sequential;
   nlohmann::json out = resultJson(concurrent, true, a.log);
   out["sequential"] = resultJson(sequential, false, a.log);
   out["wall_saving_pct"] = 100.0 * (1.0 - concurrent.wall_s / sequential.wall_s);
   out["seed"] = a.seed;
-  out["time_scale"] = o.time_scale;
-  out["time_scale_source"] = scale_source;
+  out["time_scale"] = c.time_scale;
+  out["time_scale_source"] = c.time_scale_source;
   printJson(out);
+}
+
+struct EvalWalkArgs {
+  std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5};
+  int steps = 25;
+  bool json = true;  // the only output form
+};
+
+// Straight walks across the course, each planned concurrently and
+// sequentially (cmu-1990: concurrency saved over 30 % of the walking time).
+nlohmann::json evalWalk(const EvalWalkArgs& a) {
+  const auto config = readConfig(WalkArgs{});
+  std::vector<double> distance, margin, dead_reckoning, plan_ms, saving;
+  int violations = 0, collisions = 0, stopped = 0;
+  double concurrent_s = 0.0, sequential_s = 0.0, total_m = 0.0, moving_s = 0.0;
+  for (const auto seed : a.seeds) {
+    walk::WalkOptions o;
+    o.seed = seed;
+    o.steps = a.steps;
+    const auto c = compareModes(config, o);
+    const auto& r = c.concurrent;
+    distance.push_back(r.distance_m);
+    margin.push_back(r.min_stability_margin_m);
+    dead_reckoning.push_back(r.dead_reckoning_error_m);
+    plan_ms.push_back(r.plan_ms_median);
+    saving.push_back(100.0 * (1.0 - r.wall_s / c.sequential.wall_s));
+    violations += r.csp_violations, collisions += r.leg_collisions, stopped += !r.stopped.empty();
+    concurrent_s += r.wall_s, sequential_s += c.sequential.wall_s;
+    total_m += r.distance_m, moving_s += r.modelled_execution_s;
+  }
+  return {{"walks", a.seeds.size()},
+          {"steps_per_walk", a.steps},
+          {"walks_stopped_early", stopped},
+          {"distance_m", distribution(distance)},
+          {"min_csp_margin_m", distribution(margin)},
+          {"csp_violations", violations},
+          {"leg_collisions", collisions},
+          {"dead_reckoning_worst_move_m", distribution(dead_reckoning)},
+          {"plan_ms_median", distribution(plan_ms)},
+          {"wall_saving_pct", distribution(saving)},
+          {"wall_saving_pct_total", 100.0 * (1.0 - concurrent_s / sequential_s)},
+          {"speed_while_moving_m_per_min", moving_s > 0 ? 60.0 * total_m / moving_s : 0.0}};
 }
 
 }  // namespace
@@ -160,6 +219,23 @@ void addWalk(CLI::App& app) {
                   "walking scanner (default: resources/config/rover-scanner.json)")
       ->check(CLI::ExistingFile);
   cmd->callback([args] { runWalk(*args); });
+}
+
+void addEvalWalk(CLI::App& eval, Evaluations& all) {
+  all.push_back({"walk", [] { return evalWalk(EvalWalkArgs{}); }});
+  auto args = std::make_shared<EvalWalkArgs>();
+  auto* cmd = eval.add_subcommand(
+      "walk",
+      "Autonomous walks across simulated courses, planned concurrently and sequentially: "
+      "distance, stability, dead reckoning and the wall time concurrency saves");
+  cmd->add_option("--seeds", args->seeds, "course seeds, one walk each")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--steps", args->steps, "steps per walk")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON (the only output form)");
+  cmd->callback([args] { printJson(evalWalk(*args)); });
 }
 
 }  // namespace ambler::cli
