@@ -1,8 +1,14 @@
 #include "link/Signing.h"
 
+#include <algorithm>
+
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
+#include <openssl/rand.h>
+
+#include <fstream>
+#include <stdexcept>
 
 #include "io/Json.h"
 #include "link/Codec.h"
@@ -51,6 +57,39 @@ std::vector<OperatorKey> readOperatorKeys(const std::filesystem::path& path) {
     keys.push_back(keyFrom(io::JsonFields(
         json["operators"][i], path.string() + ": operators[" + std::to_string(i) + "]")));
   return keys;
+}
+
+OperatorKey newOperatorKey(const std::string& operator_id) {
+  const bool printable = std::all_of(operator_id.begin(), operator_id.end(),
+                                     [](char c) { return c > ' ' && c < 127; });
+  if (operator_id.empty() || operator_id.size() > 256 || !printable)
+    throw std::invalid_argument("operator id '" + operator_id +
+                                "' must be 1-256 printable characters without spaces");
+  OperatorKey key{operator_id, std::vector<std::uint8_t>(32)};
+  if (RAND_bytes(key.key.data(), int(key.key.size())) != 1)
+    throw std::runtime_error("OpenSSL could not generate a random key");
+  return key;
+}
+
+std::string keyHex(const OperatorKey& key) {
+  static const char* digits = "0123456789abcdef";
+  std::string hex;
+  for (const auto byte : key.key) hex += {digits[byte >> 4], digits[byte & 15]};
+  return hex;
+}
+
+void writeOperatorKey(const std::filesystem::path& path, const OperatorKey& key) {
+  namespace fs = std::filesystem;
+  if (fs::exists(path)) throw std::runtime_error(path.string() + ": exists; not replacing a key");
+  {
+    std::ofstream out(path);
+    if (!out) throw std::runtime_error(path.string() + ": cannot be written");
+  }
+  // Owner only before the secret goes in.
+  fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+  std::ofstream out(path);
+  out << nlohmann::json{{"operator", key.operator_id}, {"key_hex", keyHex(key)}}.dump(2) << "\n";
+  if (!out) throw std::runtime_error(path.string() + ": writing the key failed");
 }
 
 Hmac hmacSha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t> data) {

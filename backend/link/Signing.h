@@ -29,6 +29,15 @@ OperatorKey readOperatorKey(const std::filesystem::path& path);
 // The rover's side: {"operators": [{"operator": ..., "key_hex": ...}, ...]}.
 std::vector<OperatorKey> readOperatorKeys(const std::filesystem::path& path);
 
+// A new key of 32 random bytes (OpenSSL's generator) for `operator_id`
+// (1-256 bytes of printable ASCII); throws std::invalid_argument otherwise.
+OperatorKey newOperatorKey(const std::string& operator_id);
+// Writes a console's key file, readable by its owner only; never replaces
+// an existing file (throws std::runtime_error naming it).
+void writeOperatorKey(const std::filesystem::path& path, const OperatorKey& key);
+// The key as lowercase hex digits, as key files hold it.
+std::string keyHex(const OperatorKey& key);
+
 Hmac hmacSha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t> data);
 
 // The console's side: stamps its operator id and the next sequence number

@@ -1,5 +1,6 @@
 #include "link/dds/DdsEntity.h"
 
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,9 +27,11 @@ void ensureDomain(std::uint32_t domain) {
   static std::map<std::uint32_t, dds_entity_t> domains;
   std::lock_guard lock(mutex);
   if (domains.count(domain)) return;
-  const dds_entity_t d = dds_create_domain(domain, kLoopbackConfig);
+  const char* uri = std::getenv("CYCLONEDDS_URI");
+  const dds_entity_t d = dds_create_domain(domain, uri && *uri ? uri : kLoopbackConfig);
   if (d < 0 && d != DDS_RETCODE_PRECONDITION_NOT_MET)
-    check(d, "creating DDS domain " + std::to_string(domain));
+    check(d, "creating DDS domain " + std::to_string(domain) +
+                 (uri && *uri ? std::string(" from CYCLONEDDS_URI=") + uri : ""));
   domains[domain] = d;
 }
 
@@ -66,7 +69,7 @@ dds_return_t check(dds_return_t rc, const std::string& what) {
   return rc;
 }
 
-Entity loopbackParticipant(std::uint32_t domain) {
+Entity joinDomain(std::uint32_t domain) {
   if (domain > 232) throw LinkError("DDS domain " + std::to_string(domain) + " is not in 0..232");
   ensureDomain(domain);
   return Entity(dds_create_participant(domain, nullptr, nullptr),

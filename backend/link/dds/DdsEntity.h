@@ -35,9 +35,12 @@ class Entity {
   dds_entity_t handle_ = 0;
 };
 
-// A participant on `domain` (0-232) configured for loopback only, unicast,
-// as STACK.md prescribes: a process and its tests never touch the network.
-Entity loopbackParticipant(std::uint32_t domain);
+// A participant on `domain` (0-232). By default configured for loopback
+// only, unicast, as STACK.md prescribes: a process and its tests never touch
+// the network. With CYCLONEDDS_URI set (a file:// URI or an XML fragment),
+// that configuration is used instead: how a console reaches a real rover
+// (docs/dds.md).
+Entity joinDomain(std::uint32_t domain);
 
 // The link's topics on one participant, with their QoS: state
 // (heartbeat, legs, body, images) reliable and transient-local so that a

@@ -233,7 +233,7 @@ void DataWait::wait(std::chrono::milliseconds timeout) const {
 
 RoverEndpoint::RoverEndpoint(std::uint32_t domain, std::uint32_t rover_id)
     : rover_id_(rover_id),
-      participant_(loopbackParticipant(domain)),
+      participant_(joinDomain(domain)),
       topics_(participant_.get()),
       heartbeat_(makeWriter(participant_.get(), topics_.heartbeat.get(), Traffic::kState)),
       leg_state_(makeWriter(participant_.get(), topics_.leg_state.get(), Traffic::kState)),
@@ -279,7 +279,7 @@ std::vector<RoverEndpoint::Received> RoverEndpoint::takeCommands(
 DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id)
     : domain_(domain),
       rover_id_(rover_id),
-      participant_(loopbackParticipant(domain)),
+      participant_(joinDomain(domain)),
       topics_(participant_.get()),
       heartbeat_(makeReader(participant_.get(), topics_.heartbeat.get(), Traffic::kState)),
       leg_state_(makeReader(participant_.get(), topics_.leg_state.get(), Traffic::kState)),

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <thread>
@@ -156,6 +157,39 @@ TEST(DdsLink, AnotherRoversTrafficIsNotSeen) {
 }
 
 // ambler-sim in its own process: a console signs, the simulator verifies.
+// A real rover is reached through a Cyclone configuration of the operator's
+// network (docs/dds.md); here one that names the loopback interface.
+TEST(DdsLink, UsesTheConfigurationInCycloneddsUri) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("ambler-dds-" + std::to_string(::getpid()) + ".xml");
+  std::ofstream(path) << R"(<CycloneDDS xmlns="https://cdds.io/config"><Domain Id="any">
+  <General><Interfaces><NetworkInterface address="127.0.0.1" multicast="false"/></Interfaces>
+    <AllowMulticast>false</AllowMulticast></General>
+  <Discovery><Peers><Peer address="127.0.0.1"/></Peers></Discovery></Domain></CycloneDDS>)";
+  ::setenv("CYCLONEDDS_URI", ("file://" + path.string()).c_str(), 1);
+  const auto domain = testDomain();
+  RoverThread rover(domain);
+  DdsLink link(domain, 1);
+  const auto all = collect(link, [](const auto& a) { return !only<BodyState>(a).empty(); });
+  ::unsetenv("CYCLONEDDS_URI");
+  std::filesystem::remove(path);
+  EXPECT_FALSE(only<BodyState>(all).empty());
+}
+
+TEST(DdsLink, ABadCycloneddsUriIsNamedInTheError) {
+  ::setenv("CYCLONEDDS_URI", "file:///nonexistent/ambler-dds.xml", 1);
+  try {
+    // Not a domain this process has joined (it keeps the first configuration).
+    DdsLink link(testDomain() + 1, 1);
+    FAIL() << "joined a domain without its configuration";
+  } catch (const LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("CYCLONEDDS_URI=file:///nonexistent/ambler-dds.xml"),
+              std::string::npos)
+        << e.what();
+  }
+  ::unsetenv("CYCLONEDDS_URI");
+}
+
 TEST(AmblerSim, ServesASignedConsoleOverDds) {
   const auto domain = testDomain();
   const auto keys = std::filesystem::temp_directory_path() /

@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "TempDir.h"
 #include "io/FormatError.h"
 #include "link/Codec.h"
 
@@ -113,6 +114,27 @@ TEST(Signing, KeyFilesAreReadAndBadOnesNamed) {
                 "not hexadecimal");
   expectProblem(R"({"key_hex": "000102030405060708090a0b0c0d0e0f"})", "operator");
   std::filesystem::remove_all(dir);
+}
+
+TEST(Signing, NewKeysAreRandomPrivateAndNeverReplaced) {
+  const TempDir dir;
+  const auto alice = newOperatorKey("alice");
+  EXPECT_EQ(alice.key.size(), 32u);
+  EXPECT_NE(alice.key, newOperatorKey("alice").key);
+  EXPECT_EQ(keyHex(alice).size(), 64u);
+  writeOperatorKey(dir / "alice.key", alice);
+  const auto back = readOperatorKey(dir / "alice.key");
+  EXPECT_EQ(back.operator_id, "alice");
+  EXPECT_EQ(back.key, alice.key);
+  namespace fs = std::filesystem;
+  EXPECT_EQ(fs::status(dir / "alice.key").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  // A second key for the same file would lock its operator out.
+  EXPECT_THROW(writeOperatorKey(dir / "alice.key", newOperatorKey("alice")), std::runtime_error);
+  EXPECT_EQ(readOperatorKey(dir / "alice.key").key, alice.key);
+  EXPECT_THROW(newOperatorKey(""), std::invalid_argument);
+  EXPECT_THROW(newOperatorKey("al ice"), std::invalid_argument);
+  EXPECT_THROW(newOperatorKey(std::string(257, 'a')), std::invalid_argument);
 }
 
 }  // namespace
