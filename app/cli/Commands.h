@@ -1,6 +1,11 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "terrain/OccludingEdges.h"
 
@@ -23,12 +28,24 @@ void addRegister(CLI::App& app);
 void addDanger(CLI::App& app);
 void addMesh(CLI::App& app);
 void addPath(CLI::App& app);
-// `eval link`, `eval rocks` and `eval mapping`, under the `eval` subcommand.
-void addEvalLink(CLI::App& eval);
-void addEvalRocks(CLI::App& eval);
-void addEvalMapping(CLI::App& eval);
-void addEvalDem(CLI::App& eval);
-void addEvalDanger(CLI::App& eval);
+void addKeygen(CLI::App& app);
+// One evaluation at its default options, as `eval all` runs it.
+struct Evaluation {
+  std::string name;
+  std::function<nlohmann::json()> run;
+};
+using Evaluations = std::vector<Evaluation>;
+
+// The `eval` subcommands besides `elevation` and `all`; each also adds
+// itself to `all`.
+void addEvalLink(CLI::App& eval, Evaluations& all);
+void addEvalRocks(CLI::App& eval, Evaluations& all);
+void addEvalMapping(CLI::App& eval, Evaluations& all);
+void addEvalDem(CLI::App& eval, Evaluations& all);
+void addEvalDanger(CLI::App& eval, Evaluations& all);
+void addEvalWalk(CLI::App& eval, Evaluations& all);
+// `eval all`: runs every evaluation in `all`.
+void addEvalAll(CLI::App& eval, std::shared_ptr<const Evaluations> all);
 
 // The occluding-edge options shared by `map` and `eval elevation`.
 void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);

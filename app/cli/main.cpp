@@ -4,12 +4,23 @@
 #include <iostream>
 
 #include "cli/Commands.h"
+#include "core/Resources.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
       "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
       "inspection, mission logs, a headless console)"};
-  app.set_version_flag("--version", std::string("ambler-cli ") + AMBLER_VERSION);
+  // The data line says which configuration the program reads: an installed
+  // package's, the build tree's or $AMBLER_DATA_DIR.
+  app.set_version_flag("--version", [] {
+    std::string data;
+    try {
+      data = ambler::findResource("config/rover.json").parent_path().parent_path().string();
+    } catch (const std::exception&) {
+      data = "not found";
+    }
+    return std::string("ambler-cli ") + AMBLER_VERSION + "\ndata: " + data;
+  });
   app.require_subcommand(1);
   ambler::cli::addSimScan(app);
   ambler::cli::addSimStriper(app);
@@ -26,6 +37,7 @@ int main(int argc, char** argv) {
   ambler::cli::addDanger(app);
   ambler::cli::addMesh(app);
   ambler::cli::addPath(app);
+  ambler::cli::addKeygen(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -15,6 +15,7 @@
 
 #include "TempDir.h"
 #include "io/Tiff.h"
+#include "link/Signing.h"
 #include "missionlog/MissionLog.h"
 #include "sensor/RangeImageFile.h"
 
@@ -443,6 +444,62 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
   EXPECT_NE(bad.out.find("csp_margin_m"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("rover.json"), std::string::npos) << bad.out;
   EXPECT_NE(runCli("walk --radius 5 --turn left").exit_code, 0);  // one or the other
+}
+
+TEST(Cli, EvalWalkComparesConcurrentAndSequentialPlanning) {
+  const auto run = runCli("eval walk --seeds 3 --steps 5 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["walks"], 1);
+  EXPECT_EQ(j["csp_violations"], 0);
+  EXPECT_EQ(j["leg_collisions"], 0);
+  EXPECT_GT(j["distance_m"]["median"].get<double>(), 1.0);
+  EXPECT_LT(j["dead_reckoning_worst_move_m"]["max"].get<double>(), 0.05);
+  EXPECT_TRUE(j["wall_saving_pct_total"].is_number());
+  EXPECT_GT(j["speed_while_moving_m_per_min"].get<double>(), 0.0);
+}
+
+// `eval all` runs the chosen evaluations and lines their headline figures
+// up with the papers'; evaluations left out have no figure.
+TEST(Cli, EvalAllCombinesTheEvaluationsWithASummary) {
+  const auto run = runCli("eval all --only link --json");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto json_start = run.out.find("{\n");  // progress lines come first on stderr
+  ASSERT_NE(json_start, std::string::npos) << run.out;
+  const auto j = nlohmann::json::parse(run.out.substr(json_start));
+  ASSERT_TRUE(j.contains("link"));
+  EXPECT_FALSE(j.contains("elevation"));
+  EXPECT_GT(j["link"]["range_images_per_s"].get<double>(), 2.0);  // the 1990 scanner's rate
+  bool link_row = false, elevation_row = false;
+  for (const auto& row : j["summary"]) {
+    const std::string from = row["from"];
+    if (from.rfind("/link/", 0) == 0) {
+      link_row = true;
+      EXPECT_TRUE(row["measured"].is_number()) << from;
+    }
+    if (from.rfind("/elevation/", 0) == 0) {
+      elevation_row = true;
+      EXPECT_TRUE(row["measured"].is_null()) << from;
+    }
+  }
+  EXPECT_TRUE(link_row && elevation_row);
+  EXPECT_NE(run.out.find("eval all: [1/1] link"), std::string::npos) << run.out;
+  EXPECT_NE(runCli("eval all --only nonsense").exit_code, 0);
+}
+
+TEST(Cli, KeygenMakesAKeyForTheConsoleAndTheRoversEntry) {
+  TempDir dir;
+  const auto file = (dir / "alice.key").string();
+  const auto run = runCli("keygen --operator alice --out " + file);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  const auto key = ambler::link::readOperatorKey(file);
+  EXPECT_EQ(key.operator_id, "alice");
+  EXPECT_EQ(j["rover_entry"]["key_hex"], ambler::link::keyHex(key));
+  const auto again = runCli("keygen --operator alice --out " + file);
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.out.find("not replacing"), std::string::npos) << again.out;
+  EXPECT_EQ(ambler::link::readOperatorKey(file).key, key.key);
 }
 
 TEST(Cli, LogSummaryCountsMessagesAndDecisions) {
