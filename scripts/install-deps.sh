@@ -6,6 +6,10 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config clang-format
+  # the .deb (CPack: dpkg-shlibdeps) and its desktop entry's check
+  dpkg-dev desktop-file-utils
+  # fuzzing (libFuzzer) and the sanitizer build
+  clang libclang-rt-14-dev
   # libraries (see ../shared/STACK.md for how they are linked)
   qt6-base-dev libqt6opengl6-dev qt6-charts-dev
   libvtk9-dev libpcl-dev libopencv-dev libeigen3-dev
