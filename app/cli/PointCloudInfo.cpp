@@ -9,12 +9,12 @@
 #include <limits>
 
 #include "io/FormatError.h"
+#include "io/PcdHeader.h"
 
 namespace ambler::cli {
 
 nlohmann::json describePointCloud(const std::filesystem::path& pcd_path) {
-  if (!std::filesystem::is_regular_file(pcd_path))
-    throw io::FormatError("PCD '" + pcd_path.string() + "': file does not exist");
+  io::checkPcd(pcd_path, false);  // before PCL, which crashes on some malformed files
   pcl::PCLPointCloud2 cloud;
   pcl::PCDReader reader;
   if (reader.read(pcd_path.string(), cloud) < 0)

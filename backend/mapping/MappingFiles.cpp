@@ -14,6 +14,7 @@
 
 #include "io/FormatError.h"
 #include "io/Npz.h"
+#include "io/PcdHeader.h"
 
 namespace ambler::mapping {
 
@@ -27,7 +28,7 @@ void requireFile(const std::filesystem::path& path, const char* kind) {
 }  // namespace
 
 Cloud readCloud(const std::filesystem::path& pcd) {
-  requireFile(pcd, "PCD");
+  io::checkPcd(pcd, true);  // before PCL, which crashes on some malformed files
   pcl::PointCloud<pcl::PointXYZ> xyz;
   if (pcl::io::loadPCDFile(pcd.string(), xyz) < 0)
     throw io::FormatError("PCD '" + pcd.string() + "': malformed, truncated or without x, y, z");
