@@ -39,6 +39,7 @@ MainWindow::MainWindow(QWidget* parent)
       seed_box_(new QSpinBox),
       scan_action_(new QAction(tr("Take scan"), this)),
       walk_action_(new QAction(tr("Walk 5 steps"), this)),
+      hold_action_(new QAction(tr("HOLD"), this)),
       approval_(new StepApprovalPanel),
       map_view_(new MapView),
       sampling_(new SamplingPanel),
@@ -82,6 +83,18 @@ MainWindow::MainWindow(QWidget* parent)
       tr("Walk the rover five steps; each waits for your approval unless auto-approve is on"));
   toolbar->addAction(walk_action_);
   connect(walk_action_, &QAction::triggered, this, &MainWindow::walkRequested);
+  // Red, at the operator's hand on the toolbar and on Esc: a signed Hold
+  // stops the rover whatever the walk is doing.
+  hold_action_->setShortcut(Qt::Key_Escape);
+  hold_action_->setToolTip(
+      tr("Stop the rover now: a signed Hold; it stays still until the next walk (Esc)"));
+  toolbar->addSeparator();
+  toolbar->addAction(hold_action_);
+  toolbar->widgetForAction(hold_action_)
+      ->setStyleSheet(
+          "QToolButton { color: white; background: #b71c1c; font-weight: bold; "
+          "padding: 2px 14px; }");
+  connect(hold_action_, &QAction::triggered, this, &MainWindow::holdRequested);
 
   addDock(tr("Step approval"), "step-approval-dock", approval_, Qt::RightDockWidgetArea);
   auto* telemetry =
@@ -171,6 +184,7 @@ void MainWindow::setReplay(const QString& what) {
   timeline_bar_->setVisible(!what.isEmpty());
   approval_->setEnabled(what.isEmpty());
   walk_action_->setEnabled(what.isEmpty());
+  hold_action_->setEnabled(what.isEmpty());
   scan_action_->setEnabled(what.isEmpty());
   if (!what.isEmpty()) showMapView();
 }

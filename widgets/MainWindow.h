@@ -44,6 +44,7 @@ class MainWindow : public QMainWindow {
   TerrainView* terrainView() const { return terrain_view_; }
   QAction* scanAction() const { return scan_action_; }
   QAction* walkAction() const { return walk_action_; }
+  QAction* holdAction() const { return hold_action_; }
   StepApprovalPanel* approvalPanel() const { return approval_; }
   MapView* mapView() const { return map_view_; }
   class SamplingPanel* samplingPanel() const {
@@ -79,6 +80,8 @@ class MainWindow : public QMainWindow {
  signals:
   void scanRequested(quint64 seed);
   void walkRequested();
+  // The operator pressed Hold: stop the rover now.
+  void holdRequested();
   void scanShown();  // showScan() has put a scan in the views
   void connectRequested();
   void openLogRequested(const QString& path);
@@ -92,6 +95,7 @@ class MainWindow : public QMainWindow {
   QSpinBox* seed_box_;
   QAction* scan_action_;
   QAction* walk_action_;
+  QAction* hold_action_;
   StepApprovalPanel* approval_;
   MapView* map_view_;
   class SamplingPanel* sampling_;

@@ -59,6 +59,9 @@ void GroundStation::wireWindow() {
     window_.showError(message);
   });
   connect(&window_, &widgets::MainWindow::walkRequested, this, [this] { startWalk(5); });
+  connect(&window_, &widgets::MainWindow::holdRequested, this, [this] {
+    if (session_ && !timeline_) session_->hold();
+  });
   connect(&window_, &widgets::MainWindow::openLogRequested, this, &GroundStation::openLog);
   connect(&window_, &widgets::MainWindow::connectRequested, this, [this] {
     widgets::ConnectDialog dialog(choice_, &window_);

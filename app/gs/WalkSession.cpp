@@ -107,6 +107,12 @@ QString WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
   return QString::fromStdString(why);
 }
 
+void WalkSession::hold() {
+  executive_->hold(nowS(), operator_id_.toStdString());
+  if (!timer_.isActive()) timer_.start(50);  // for the rover's answer
+  emit changed();
+}
+
 void WalkSession::setAutoApprove(bool on) {
   gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
   // A step already waiting is released now if it passes its interlocks.

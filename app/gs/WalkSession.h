@@ -52,6 +52,8 @@ class WalkSession : public QObject {
   // checked again, still pending.
   QString editFoothold(quint64 proposal, double x_m, double y_m);
   void setAutoApprove(bool on);
+  // The operator's Hold: sent signed at once (WalkExecutive::hold).
+  void hold();
   // The operator approved this grasp (`detail`: JSON of the fit behind it):
   // checked against the rover's limits, logged, signed and sent. Refused
   // while a walk is under way. Empty when sent, else why not.

@@ -62,6 +62,10 @@ void WalkExecutive::resume(double now_s) {
   requestScan(now_s);
 }
 
+void WalkExecutive::hold(double now_s, const std::string& operator_id) {
+  suspend(now_s, "Hold by " + operator_id, true);
+}
+
 void WalkExecutive::note(double now_s, const std::string& what) {
   events_.push_back({now_s, what});
 }

@@ -89,6 +89,10 @@ class WalkExecutive {
   // After a suspension or a rejection: end the rover's hold if it holds,
   // then scan and plan again from where the rover reports it is.
   void resume(double now_s);
+  // The operator's stop: a signed Hold at once, whatever the walk is doing;
+  // a step under way is suspended and nothing more is sent. The rover stays
+  // still until a walk is started again (which ends the hold).
+  void hold(double now_s, const std::string& operator_id);
 
   Phase phase() const { return phase_; }
   int stepsDone() const { return steps_done_; }

@@ -208,6 +208,41 @@ class GroundStationTest : public QObject {
     QVERIFY(!c.panel.rejectButton()->isEnabled());
   }
 
+  // Hold stops a walk in the middle of a step: the Hold goes out signed,
+  // the rover says it holds, nothing more is sent, and the next walk ends
+  // the hold.
+  void holdStopsTheRoverMidStep() {
+    Console c;
+    auto* hold = c.station.window().holdAction();
+    QVERIFY(hold->isEnabled());
+    QCOMPARE(hold->shortcut(), QKeySequence(Qt::Key_Escape));
+    c.start(3);
+    c.panel.autoApproveSwitch()->setChecked(true);
+    QTRY_VERIFY_WITH_TIMEOUT(c.movesSent() >= 1, 30000);
+    hold->trigger();
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kSuspended, 5000);
+    QTRY_VERIFY_WITH_TIMEOUT(!c.session().executive().roverHolding().empty(), 5000);
+    QVERIFY2(QString::fromStdString(c.session().executive().roverHolding()).contains("alice"),
+             c.session().executive().roverHolding().c_str());
+    auto* table = c.station.window().commandLog();
+    bool hold_accepted = false;
+    QTRY_VERIFY_WITH_TIMEOUT(
+        [&] {
+          for (int row = 0; row < table->rowCount(); ++row)
+            hold_accepted |= table->cellText(row, 2) == "Hold" &&
+                             table->cellText(row, 3) == "accepted" &&
+                             table->cellText(row, 1) == "alice";
+          return hold_accepted;
+        }(),
+        5000);
+    const int moves = c.movesSent();
+    QTest::qWait(1500);
+    QCOMPARE(c.movesSent(), moves);
+    QVERIFY(c.session().executive().stepsDone() < 3);
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.session().executive().roverHolding().empty(), 10000);
+  }
+
   void autoApproveIsVisibleAndWalksOnItsOwn() {
     Console c;
     c.start(2);
