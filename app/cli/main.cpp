@@ -4,9 +4,11 @@
 #include <iostream>
 
 #include "cli/Commands.h"
+#include "core/Memory.h"
 #include "core/Resources.h"
 
 int main(int argc, char** argv) {
+  ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
   CLI::App app{
       "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
       "inspection, mission logs, a headless console)"};

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/gs/GroundStation.h"
+#include "core/Memory.h"
 #include "core/Resources.h"
 #include "rendering/VtkView.h"
 #include "widgets/TerrainView.h"
@@ -52,6 +53,7 @@ std::pair<double, long long> frameTimes(ambler::rendering::VtkView* view, bool m
 }  // namespace
 
 int main(int argc, char** argv) {
+  ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
   QElapsedTimer since_start;
   since_start.start();
   // VTK needs this format, and it must be the default before QApplication.

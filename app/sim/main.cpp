@@ -9,6 +9,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/Memory.h"
 #include "link/dds/DdsMessages.h"
 #include "rover/RoverLoop.h"
 
@@ -76,6 +77,7 @@ void run(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
   CLI::App app{"Ambler simulator served over DDS (loopback; see docs/formats.md)"};
   app.set_version_flag("--version", std::string("ambler-sim ") + AMBLER_VERSION);
   Args a;
