@@ -294,9 +294,11 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   // half-plane; tan(theta) from it needs no square root.
   const double across = p.y() * cos_phi + p.z() * sin_phi;
   if (across <= 0) return lp;
-  lp.rho = p.norm();
   lp.col = columnOf(p.x() / across);
   lp.on_image = lp.col > -0.5 && lp.col < g_.cols - 0.5;
+  // The square root only for a point on the image: most of the cells out
+  // of view stop here.
+  if (lp.on_image) lp.rho = p.norm();
   return lp;
 }
 
