@@ -484,10 +484,12 @@ Stance nominalStance(const BodyPose& body, const RoverModel& m, const GaitOption
   s.body = body;
   // Staggered stacks so the centre of gravity sits in the CSP: the left
   // stack at -1.25, -0.25, 0.75 pitches, the right at -0.75, 0.25, 1.25.
-  const double left[] = {-1.25, -0.25, 0.75}, right[] = {-0.75, 0.25, 1.25};
+  // (One 2-D table: GCC 12 with -fsanitize=undefined miscompiles indexing
+  // `(cond ? left : right)[i]`: every right-hand foot got the first pitch.)
+  static constexpr double kPitches[2][3] = {{-1.25, -0.25, 0.75}, {-0.75, 0.25, 1.25}};
   for (int i = 0; i < kLegCount; ++i) {
     const bool is_left = m.shaft_of_leg[std::size_t(i)] == 0;
-    const double along = (is_left ? left : right)[i % 3] * g.pitch_m;
+    const double along = kPitches[is_left ? 0 : 1][i % 3] * g.pitch_m;
     const Eigen::Vector2d foot =
         body.toWorld(Eigen::Vector2d(is_left ? -g.tread_m : g.tread_m, along));
     s.feet[std::size_t(i)] = {foot.x(), foot.y(), body.link_z - m.link_plane_nominal_m};
