@@ -103,6 +103,9 @@ struct CellResult {
   double z = NAN;
   double sigma = 0.0;  // noise and sampling together [m]
   HeightNoise noise{};
+  // Unknown because the line's first point is off the image: the cell is
+  // out of the field of view.
+  bool out_of_view = false;
 };
 
 // The heights of the line over which Delta is within the noise of zero.
@@ -137,12 +140,19 @@ class LocusSolver {
 
   // Starts the search where the line is at height `z_guess`.
   CellResult solve(double x, double y, double z_guess) const;
+  // Whether the search for the cell at (x, y) would start on the image:
+  // solve()'s first step alone.
+  bool startsInView(double x, double y, double z_guess) const;
 
  private:
   LocusPoint pointAt(const Line& line, int row) const;
   RowSample sampleRow(const Line& line, int row) const;
   int startRow(const Line& line, double z) const;
-  CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t) const;
+  CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
+                 bool& out_of_view) const;
+  Line lineThrough(double x, double y) const {
+    return {world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
+  }
   CellResult refine(const Line& line, const Bracket& br) const;
   CellResult finish(const Line& line, const Bracket& br, double t, double u, double col,
                     int quad_col) const;
@@ -254,16 +264,26 @@ double LocusSolver::rowOf(double y, double z) const {
   return g_.row(std::atan2(z, y));
 }
 
+bool LocusSolver::startsInView(double x, double y, double z_guess) const {
+  const Line line = lineThrough(x, y);
+  return pointAt(line, startRow(line, z_guess)).on_image;
+}
+
 CellResult LocusSolver::solve(double x, double y, double z_guess) const {
-  const Line line{world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
+  const Line line = lineThrough(x, y);
   // Which row step lowers the line point: dt/dphi has the sign of
   // (a_y b_z - a_z b_y) between the poles of eq. 2.
   const double turn = line.a.y() * line.b.z() - line.a.z() * line.b.y();
   const int down = (turn * g_.phi_step < 0) ? 1 : -1;
   Bracket bracket;
   double stop_t = NAN;
-  const auto found = walk(line, down, startRow(line, z_guess), bracket, stop_t);
-  if (found != CellState::kKnown) return {found, stop_t};
+  bool out_of_view = false;
+  const auto found = walk(line, down, startRow(line, z_guess), bracket, stop_t, out_of_view);
+  if (found != CellState::kKnown) {
+    CellResult r{found, stop_t};
+    r.out_of_view = out_of_view;
+    return r;
+  }
   auto result = refine(line, bracket);
   if (result.state != CellState::kKnown || !result.noise.ambiguous) return result;
   // A line running beside a vertical face stays within the noise of the
@@ -329,9 +349,10 @@ int LocusSolver::startRow(const Line& line, double z) const {
 // Scanline bracketing: from the start row, walk down the line while it is
 // in front of the surface, or up while it is behind, until the sign of
 // Delta changes between adjacent scanlines.
-CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket,
-                            double& stop_t) const {
+CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
+                            bool& out_of_view) const {
   RowSample s = sampleRow(line, row);
+  out_of_view = !s.at.on_image;
   if (!s.ok) return CellState::kUnknown;
   const int step = s.delta < 0 ? down : -down;
   for (int next = row + step; next >= 0 && next < g_.rows; next += step) {
@@ -597,6 +618,32 @@ Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, cons
   return band;
 }
 
+// The first cell from `c` on whose search starts on the image. Across a
+// map row the field of view is one interval, so the cells out of it are
+// skipped in strides of up to 16 (80 cm at 5 cm) and the edge found by
+// bisection: about half the map is out of view, and a cell there cost as
+// much as its first sample (they stay unknown, as a new map's cells are).
+int nextInView(const LocusSolver& solver, const GridSpec& grid, int r, int c, double z_guess) {
+  auto inView = [&](int col) {
+    const auto p = grid.cellCenter(r, col);
+    return solver.startsInView(p.x(), p.y(), z_guess);
+  };
+  int out = c - 1;  // the last cell known to be out of view
+  for (int stride = 1; out + stride < grid.cols; stride = std::min(2 * stride, 16)) {
+    if (!inView(out + stride)) {
+      out += stride;
+      continue;
+    }
+    int in = out + stride;
+    while (in - out > 1) {
+      const int mid = out + (in - out) / 2;
+      (inView(mid) ? in : out) = mid;
+    }
+    return in;
+  }
+  return grid.cols;
+}
+
 }  // namespace
 
 ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
@@ -613,7 +660,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
 #pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
   for (int r = 0; r < grid.rows; ++r) {
     double z_guess = start_z;  // neighbouring cells have similar heights
-    for (int c = 0; c < grid.cols; ++c) {
+    for (int c = 0; c < grid.cols;) {
       const auto p = grid.cellCenter(r, c);
       const auto result = solver.solve(p.x(), p.y(), z_guess);
       if (result.state == CellState::kKnown)
@@ -621,6 +668,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
       else
         map.setUnobserved(r, c, result.state);
       if (result.state != CellState::kUnknown) z_guess = result.z;
+      c = result.out_of_view ? nextInView(solver, grid, r, c + 1, z_guess) : c + 1;
     }
   }
   return map;
