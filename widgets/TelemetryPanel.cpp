@@ -174,8 +174,11 @@ void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, 
     y->append(kLanes[lane].name, double(kLanes.size() - 1 - lane));
   for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
     const double base = double(kLanes.size() - 1 - lane);
-    auto* upper = new QLineSeries;
-    auto* lower = new QLineSeries;
+    // An area series does not own its lines: they are its children, so
+    // that the next refresh's removeAllSeries() deletes them too.
+    auto* area = new QAreaSeries;
+    auto* upper = new QLineSeries(area);
+    auto* lower = new QLineSeries(area);
     upper->append(0, base - 0.3);
     for (const auto& t : tasks) {
       if (!kLanes[lane].owns(t) || t.started_s <= 0) continue;
@@ -185,7 +188,8 @@ void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, 
     }
     upper->append(now_s - t0, base - 0.3);
     lower->append({{0, base - 0.3}, {now_s - t0, base - 0.3}});
-    auto* area = new QAreaSeries(upper, lower);
+    area->setUpperSeries(upper);
+    area->setLowerSeries(lower);
     area->setName(kLanes[lane].name);
     area->setColor(kLanes[lane].color);
     area->setBorderColor(kLanes[lane].color);
