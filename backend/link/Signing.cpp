@@ -1,13 +1,16 @@
 #include "link/Signing.h"
 
-#include <algorithm>
-
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
 #include <openssl/rand.h>
 
-#include <fstream>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 #include "io/Json.h"
@@ -79,17 +82,19 @@ std::string keyHex(const OperatorKey& key) {
 }
 
 void writeOperatorKey(const std::filesystem::path& path, const OperatorKey& key) {
-  namespace fs = std::filesystem;
-  if (fs::exists(path)) throw std::runtime_error(path.string() + ": exists; not replacing a key");
-  {
-    std::ofstream out(path);
-    if (!out) throw std::runtime_error(path.string() + ": cannot be written");
-  }
-  // Owner only before the secret goes in.
-  fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
-  std::ofstream out(path);
-  out << nlohmann::json{{"operator", key.operator_id}, {"key_hex", keyHex(key)}}.dump(2) << "\n";
-  if (!out) throw std::runtime_error(path.string() + ": writing the key failed");
+  // Created owner-only and only if absent, in one step: no moment when the
+  // file is readable by others, and no race with another writer.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  if (fd < 0)
+    throw std::runtime_error(path.string() +
+                             (errno == EEXIST
+                                  ? ": exists; not replacing a key"
+                                  : ": cannot be written: " + std::string(std::strerror(errno))));
+  const std::string text =
+      nlohmann::json{{"operator", key.operator_id}, {"key_hex", keyHex(key)}}.dump(2) + "\n";
+  const bool written = ::write(fd, text.data(), text.size()) == ssize_t(text.size());
+  if (::close(fd) != 0 || !written)
+    throw std::runtime_error(path.string() + ": writing the key failed");
 }
 
 Hmac hmacSha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t> data) {
