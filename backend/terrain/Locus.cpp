@@ -25,12 +25,14 @@ constexpr double kSteepFaceCos = 0.26;
 // 1e-4 pixel everywhere.
 class PixelTable {
  public:
+  PixelTable() = default;
   template <typename F>
   PixelTable(double x_first, double x_last, F pixel_of) {
     const int intervals = 4096;
     first_ = x_first;
     step_ = (x_last - x_first) / intervals;
     inverse_step_ = 1.0 / step_;
+    intervals_ = intervals;
     for (int i = 0; i <= intervals; ++i) values_.push_back(pixel_of(first_ + i * step_));
     for (int i = 0; i < intervals; ++i)
       if (!(std::abs(0.5 * (values_[i] + values_[i + 1]) - pixel_of(first_ + (i + 0.5) * step_)) <=
@@ -43,13 +45,20 @@ class PixelTable {
   // NaN outside the table.
   double operator()(double x) const {
     const double f = (x - first_) * inverse_step_;
-    if (!(f >= 0 && f < double(values_.size() - 1))) return NAN;
+    if (!(f >= 0 && f < intervals_)) return NAN;
     const int i = int(f);
+    return values_[i] + (f - i) * (values_[i + 1] - values_[i]);
+  }
+  // Beyond the table: extrapolated from the interval at the nearer end,
+  // which is enough to say on which side of the table x is.
+  double extrapolated(double x) const {
+    const double f = (x - first_) * inverse_step_;
+    const int i = f < 0 ? 0 : int(intervals_) - 1;
     return values_[i] + (f - i) * (values_[i + 1] - values_[i]);
   }
 
  private:
-  double first_ = 0.0, step_ = 0.0, inverse_step_ = 0.0;
+  double first_ = 0.0, step_ = 0.0, inverse_step_ = 0.0, intervals_ = 0.0;
   std::vector<double> values_;
 };
 
@@ -122,11 +131,13 @@ PixelTable columnTable(const sensor::ScanGeometry& g) {
                     [&](double tan_theta) { return g.col(std::atan(tan_theta)); });
 }
 
+// Over the image's rows and half a row beyond; none (atan2 instead) for an
+// image more than 170 degrees tall.
 PixelTable rowTable(const sensor::ScanGeometry& g) {
   const double mid = g.phi((g.rows - 1) / 2.0);
   const double a = g.phi(-1.5) - mid, b = g.phi(g.rows + 0.5) - mid;
-  const double lo = std::max(std::min(a, b), -1.5), hi = std::min(std::max(a, b), 1.5);
-  return PixelTable(std::tan(lo), std::tan(hi),
+  if (std::max(std::abs(a), std::abs(b)) > 1.5) return PixelTable();
+  return PixelTable(std::tan(std::min(a, b)), std::tan(std::max(a, b)),
                     [&](double tan_phi) { return g.row(mid + std::atan(tan_phi)); });
 }
 
@@ -165,6 +176,9 @@ class LocusSolver {
                             int quad_col) const;
   double samplingSigma(int quad_row, int quad_col) const;
   bool isSteepFace(int quad_row, int quad_col) const;
+  bool nearEdge(int quad_row, int quad_col) const {
+    return near_edge_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
+  }
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
@@ -192,6 +206,9 @@ class LocusSolver {
   // the image spans less than 180 degrees about it.
   double sin_mid_ = 0.0, cos_mid_ = 1.0;
   PixelTable row_table_;
+  double last_col_ = 0.0;  // the image's right border, cols - 0.5
+  // Per quad: an edge quad among it and its eight neighbours.
+  std::vector<std::uint8_t> near_edge_;
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad)
@@ -235,6 +252,22 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
     std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
     typical_height_ = z[z.size() / 2];
   }
+  // The edge quads dilated by one quad, along rows and then along columns.
+  const int quad_rows = g_.rows - 1, quad_cols = g_.cols - 1;
+  std::vector<std::uint8_t> across(std::size_t(quad_rows) * quad_cols, 0);
+  for (int r = 0; r < quad_rows; ++r)
+    for (int c = 0; c < quad_cols; ++c)
+      across[std::size_t(r) * quad_cols + c] = edges.quadIsEdge(r, std::max(c - 1, 0)) ||
+                                               edges.quadIsEdge(r, c) ||
+                                               edges.quadIsEdge(r, std::min(c + 1, quad_cols - 1));
+  near_edge_.assign(across.size(), 0);
+  for (int r = 0; r < quad_rows; ++r)
+    for (int c = 0; c < quad_cols; ++c) {
+      const std::size_t i = std::size_t(r) * quad_cols + c;
+      near_edge_[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
+                      across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
+    }
+  last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
   // One level per halving until the bracket is narrower than epsilon.
@@ -249,17 +282,18 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
 // (it does unless the image reaches within a few degrees of theta = 90).
 double LocusSolver::columnOf(double tan_theta) const {
   if (column_table_.empty()) return g_.col(std::atan(tan_theta));
-  const double col = column_table_(tan_theta);
-  return std::isnan(col) ? -1e9 : col;  // NaN: off the image
+  return column_table_(tan_theta);  // NaN beyond the table: off the image
 }
 
 // The fractional row of direction (y, z) in the sensor's y-z plane; atan2
-// where the table does not reach.
+// more than 90 degrees from the middle scanline or without a table. Beyond
+// the table the direction is off the image, where startRow() only needs to
+// know on which side: a quarter of the calls, 0.5 ms of a map with atan2.
 double LocusSolver::rowOf(double y, double z) const {
   const double y_mid = y * cos_mid_ + z * sin_mid_, z_mid = z * cos_mid_ - y * sin_mid_;
   if (y_mid > 0 && !row_table_.empty()) {
-    const double row = row_table_(z_mid / y_mid);
-    if (!std::isnan(row)) return row;
+    const double tan_phi = z_mid / y_mid, row = row_table_(tan_phi);
+    return std::isnan(row) ? row_table_.extrapolated(tan_phi) : row;
   }
   return g_.row(std::atan2(z, y));
 }
@@ -315,7 +349,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   const double across = p.y() * cos_phi + p.z() * sin_phi;
   if (across <= 0) return lp;
   lp.col = columnOf(p.x() / across);
-  lp.on_image = lp.col > -0.5 && lp.col < g_.cols - 0.5;
+  lp.on_image = lp.col > -0.5 && lp.col < last_col_;
   // The square root only for a point on the image: most of the cells out
   // of view stop here.
   if (lp.on_image) lp.rho = p.norm();
@@ -498,18 +532,17 @@ double LocusSolver::imageRangeOnRow(int row, double col) const {
 HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
                                        int quad_col) const {
   const int step = br.lower.row - br.upper.row;
-  std::array<bool, 4> ok{};
   HeightNoise result;
-  std::array<RowSample, 4> samples{};
-  samples[1] = br.upper, samples[2] = br.lower;
   if (br.upper.row - step >= 0 && br.upper.row - step < g_.rows)
-    samples[0] = result.above = sampleRow(line, br.upper.row - step);
+    result.above = sampleRow(line, br.upper.row - step);
   if (br.lower.row + step >= 0 && br.lower.row + step < g_.rows)
-    samples[3] = result.below = sampleRow(line, br.lower.row + step);
+    result.below = sampleRow(line, br.lower.row + step);
+  const std::array<const RowSample*, 4> samples{&result.above, &br.upper, &br.lower, &result.below};
+  std::array<bool, 4> ok{};
   std::array<double, 4> delta{}, range{};
   for (int i = 0; i < 4; ++i) {
-    ok[i] = samples[i].ok;
-    delta[i] = samples[i].delta, range[i] = samples[i].at.rho - samples[i].delta;
+    ok[i] = samples[i]->ok;
+    delta[i] = samples[i]->delta, range[i] = samples[i]->at.rho - samples[i]->delta;
   }
   if (!ok[1] || !ok[2]) return result;
   if (ok[0] && edges_.quadIsEdge(std::min(br.upper.row, br.upper.row - step), quad_col))
@@ -549,12 +582,11 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, doub
 // pixels' own height noise explains (about 2 sigma for four samples) is
 // already in the noise term and is taken off.
 double LocusSolver::samplingSigma(int quad_row, int quad_col) const {
-  int r0 = std::max(quad_row - 1, 0), r1 = std::min(quad_row + 1, g_.rows - 2);
-  int c0 = std::max(quad_col - 1, 0), c1 = std::min(quad_col + 1, g_.cols - 2);
-  bool near_edge = false;
-  for (int r = r0; r <= r1 && !near_edge; ++r)
-    for (int c = c0; c <= c1 && !near_edge; ++c) near_edge = edges_.quadIsEdge(r, c);
-  if (!near_edge) r0 = r1 = quad_row, c0 = c1 = quad_col;
+  int r0 = quad_row, r1 = quad_row, c0 = quad_col, c1 = quad_col;
+  if (nearEdge(quad_row, quad_col)) {
+    r0 = std::max(quad_row - 1, 0), r1 = std::min(quad_row + 1, g_.rows - 2);
+    c0 = std::max(quad_col - 1, 0), c1 = std::min(quad_col + 1, g_.cols - 2);
+  }
   double lo = INFINITY, hi = -INFINITY;
   for (int r = r0; r <= r1 + 1; ++r)
     for (int c = c0; c <= c1 + 1; ++c) {
@@ -586,35 +618,25 @@ bool LocusSolver::isSteepFace(int quad_row, int quad_col) const {
 // the surface.
 Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
                              const RowSample& below) const {
-  auto sampleAt = [&](int row) {
-    if (above.ok && row == above.row) return above;
-    if (below.ok && row == below.row) return below;
-    return sampleRow(line, row);
-  };
-  auto noise = [&](const RowSample& s) {
-    return 3 * sensor::rangeSigma(s.at.rho, image_.range_sigma_k);
-  };
+  const double noise_per_rho2 = 3 * image_.range_sigma_k;
   Band band;
-  auto note = [&](const RowSample& x) {
-    if (std::abs(x.delta) < noise(x))
-      band.top = std::max(band.top, x.at.t), band.bottom = std::min(band.bottom, x.at.t);
+  // From one end of the bracket, `away` from the other, while Delta has
+  // not left the noise on the side away from the bracket. The first step
+  // is the neighbour sigmaOfHeight() sampled.
+  auto follow = [&](const RowSample& end, const RowSample& neighbour, int step, double away) {
+    double delta = end.delta, rho = end.at.rho, t = end.at.t;
+    for (int row = end.row + step;; row += step) {
+      const double noise = noise_per_rho2 * rho * rho;
+      if (std::abs(delta) < noise)
+        band.top = std::max(band.top, t), band.bottom = std::min(band.bottom, t);
+      if (!(away * delta < noise) || row < 0 || row >= g_.rows) return;
+      const RowSample next = row == neighbour.row ? neighbour : sampleRow(line, row);
+      if (!next.ok) return;
+      delta = next.delta, rho = next.at.rho, t = next.at.t;
+    }
   };
-  RowSample s = br.lower;
-  note(s);
-  for (int next = s.row + down; next >= 0 && next < g_.rows && s.delta < noise(s); next += down) {
-    const RowSample n = sampleAt(next);
-    if (!n.ok) break;
-    s = n;
-    note(s);
-  }
-  s = br.upper;
-  note(s);
-  for (int next = s.row - down; next >= 0 && next < g_.rows && s.delta > -noise(s); next -= down) {
-    const RowSample n = sampleAt(next);
-    if (!n.ok) break;
-    s = n;
-    note(s);
-  }
+  follow(br.lower, below, down, 1.0);
+  follow(br.upper, above, -down, -1.0);
   return band;
 }
 
