@@ -674,7 +674,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   if (image.rows() < 2 || image.cols() < 2) return map;
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
-      options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 8;
+      options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
   const LocusSolver solver(image, edges, epsilon);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();

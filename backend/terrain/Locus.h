@@ -10,8 +10,9 @@ namespace ambler::terrain {
 struct LocusOptions {
   // The binary search along a locus stops when its bracket is narrower than
   // this [rad], and the root is interpolated linearly across the last
-  // bracket; 0 means 1/8 of the scanline spacing (heights to well under a
-  // millimetre at 20 m, far inside the range noise).
+  // bracket; 0 means 1/4 of the scanline spacing, two levels. A third level
+  // would lower `eval elevation`'s locus RMSE by 0.02 mm (0.04489 to
+  // 0.04487 m) for 1.4 ms more of a 21 ms map.
   double epsilon_rad = 0.0;
   OccludingEdgeOptions edges;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
