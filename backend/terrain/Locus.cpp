@@ -630,7 +630,7 @@ Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, cons
       if (std::abs(delta) < noise)
         band.top = std::max(band.top, t), band.bottom = std::min(band.bottom, t);
       if (!(away * delta < noise) || row < 0 || row >= g_.rows) return;
-      const RowSample next = row == neighbour.row ? neighbour : sampleRow(line, row);
+      const RowSample next = row == end.row + step ? neighbour : sampleRow(line, row);
       if (!next.ok) return;
       delta = next.delta, rho = next.at.rho, t = next.at.t;
     }
