@@ -1,26 +1,53 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang into build/fuzz and runs each for
-# SECONDS (default 20) from a corpus it seeds itself. A crash, a leak, an
-# undefined behaviour or an unexpected exception fails the run; the input is
-# kept in build/fuzz/artifacts/ (replay: build/fuzz/fuzz/<target> FILE).
-# Usage: scripts/fuzz.sh [SECONDS]
+# The libFuzzer targets (tests/fuzz), built with clang into build/fuzz.
+#
+#   scripts/fuzz.sh --regress   what CI runs: each target replays its committed
+#                               regression corpus (tests/fuzz/corpus/TARGET,
+#                               every input that ever failed) and then makes a
+#                               fixed number of mutations from a fixed seed.
+#                               The same commit gives the same result.
+#   scripts/fuzz.sh SECONDS     open-ended fuzzing, SECONDS per target (default
+#                               20), from a random seed; a separate job, not CI.
+#                               New inputs accumulate in build/fuzz/corpus.
+#
+# A crash, a leak, an undefined behaviour or an unexpected exception fails the
+# run; the input is kept in build/fuzz/artifacts/ (replay it with
+# build/fuzz/fuzz/TARGET FILE). Add it to tests/fuzz/corpus/TARGET with a
+# unit test naming the defect.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-20}
+mode=${1:-20}
+targets=(fuzz_link_codec fuzz_range_image fuzz_json_config fuzz_pcd fuzz_ply fuzz_camera_image
+         fuzz_mission_log)
+# Mutations per target in --regress mode, and the seed they come from.
+regress_runs=20000
+regress_seed=20261124
+
+mkdir -p build
 CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DAMBLER_FUZZ=ON -DBUILD_TESTING=OFF > build/fuzz-configure.log 2>&1 ||
   { cat build/fuzz-configure.log; exit 1; }
 cmake --build build/fuzz --target fuzzers
 mkdir -p build/fuzz/artifacts
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+common=(-max_len=65536 -rss_limit_mb=2048 -timeout=10 -print_final_stats=1)
 status=0
-for target in fuzz_link_codec fuzz_range_image fuzz_json_config fuzz_pcd; do
-  corpus=build/fuzz/corpus/$target
+for target in "${targets[@]}"; do
+  regression=tests/fuzz/corpus/$target
+  if [ "$mode" = "--regress" ]; then
+    corpus=build/fuzz/regress/$target
+    rm -rf "$corpus"
+    run=(-runs=$regress_runs -seed=$regress_seed)
+    echo "fuzz: $target: $(ls "$regression" | wc -l) regression inputs, then $regress_runs runs from seed $regress_seed"
+  else
+    corpus=build/fuzz/corpus/$target
+    run=(-max_total_time="$mode")
+    echo "fuzz: $target for $mode s"
+  fi
   mkdir -p "$corpus"
-  echo "fuzz: $target for ${seconds} s"
-  if ! build/fuzz/fuzz/$target -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 \
-      -timeout=10 -print_final_stats=1 -artifact_prefix=build/fuzz/artifacts/$target- \
-      "$corpus" > "build/fuzz/$target.log" 2>&1; then
+  if ! build/fuzz/fuzz/$target "${common[@]}" "${run[@]}" \
+      -artifact_prefix=build/fuzz/artifacts/$target- "$corpus" "$regression" \
+      > "build/fuzz/$target.log" 2>&1; then
     tail -n 60 "build/fuzz/$target.log"
     echo "fuzz: $target FAILED (log: build/fuzz/$target.log)"
     status=1

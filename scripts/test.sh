@@ -6,6 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh
 xvfb-run -a -s "-screen 0 1280x800x24" \
   ctest --test-dir build --output-on-failure --timeout 600 -j "$(nproc)"
-# The libFuzzer targets (clang, build/fuzz), 15 s each: decoders and file
+# The libFuzzer targets (clang, build/fuzz) on their committed regression
+# corpora and a fixed number of mutations from a fixed seed: decoders and file
 # readers must refuse bad bytes with their own error, never crash.
-bash scripts/fuzz.sh 15
+bash scripts/fuzz.sh --regress

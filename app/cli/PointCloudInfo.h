@@ -5,8 +5,7 @@
 
 namespace ambler::cli {
 
-// Describes a PCD point cloud (fields, size, bounds). This header keeps PCL
-// out of its callers; PCL's templates stay in PointCloudInfo.cpp.
+// Describes a PCD point cloud (fields, size, bounds); io::readPcd reads it.
 nlohmann::json describePointCloud(const std::filesystem::path& pcd_path);
 
 }  // namespace ambler::cli

@@ -3,9 +3,7 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 #include <vtkCellArray.h>
-#include <vtkIdList.h>
 #include <vtkNew.h>
-#include <vtkPLYReader.h>
 #include <vtkPLYWriter.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -14,28 +12,21 @@
 
 #include "io/FormatError.h"
 #include "io/Npz.h"
-#include "io/PcdHeader.h"
+#include "io/Pcd.h"
+#include "io/Ply.h"
 
 namespace ambler::mapping {
 
-namespace {
-
-void requireFile(const std::filesystem::path& path, const char* kind) {
-  if (!std::filesystem::is_regular_file(path))
-    throw io::FormatError(std::string(kind) + " '" + path.string() + "': file does not exist");
-}
-
-}  // namespace
-
 Cloud readCloud(const std::filesystem::path& pcd) {
-  io::checkPcd(pcd, true);  // before PCL, which crashes on some malformed files
-  pcl::PointCloud<pcl::PointXYZ> xyz;
-  if (pcl::io::loadPCDFile(pcd.string(), xyz) < 0)
-    throw io::FormatError("PCD '" + pcd.string() + "': malformed, truncated or without x, y, z");
+  const auto cloud = io::readPcd(pcd, true);
+  const int x = cloud.header.column("x"), y = cloud.header.column("y"),
+            z = cloud.header.column("z");
   Cloud out;
-  for (const auto& p : xyz)
-    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
-      out.push_back(p.getVector3fMap().cast<double>());
+  out.reserve(cloud.header.points);
+  for (std::uint64_t i = 0; i < cloud.header.points; ++i) {
+    const Eigen::Vector3d p(cloud.at(i, x), cloud.at(i, y), cloud.at(i, z));
+    if (p.allFinite()) out.push_back(p);
+  }
   return out;
 }
 
@@ -48,30 +39,12 @@ void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud) {
 }
 
 TerrainMesh readMesh(const std::filesystem::path& ply) {
-  requireFile(ply, "PLY");
-  vtkNew<vtkPLYReader> reader;
-  reader->SetFileName(ply.string().c_str());
-  reader->Update();
-  vtkPolyData* data = reader->GetOutput();
-  if (data == nullptr || data->GetNumberOfPoints() < 3 || data->GetNumberOfPolys() < 1)
-    throw io::FormatError("PLY '" + ply.string() + "': malformed, truncated or without triangles");
+  const auto file = io::readPly(ply);
+  if (file.vertices.size() < 3 || file.triangles.empty())
+    throw io::FormatError(ply.string() + ": PLY has fewer than 3 vertices or no triangle");
   TerrainMesh mesh;
-  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i) {
-    double p[3];
-    data->GetPoint(i, p);
-    mesh.vertices.push_back({p[0], p[1], p[2]});
-    if (!mesh.vertices.back().allFinite())
-      throw io::FormatError("PLY '" + ply.string() + "': vertex " + std::to_string(i) +
-                            " is not finite");
-  }
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c) {
-    data->GetCellPoints(c, ids);
-    if (ids->GetNumberOfIds() != 3)
-      throw io::FormatError("PLY '" + ply.string() + "': face " + std::to_string(c) +
-                            " is not a triangle");
-    mesh.triangles.push_back({int(ids->GetId(0)), int(ids->GetId(1)), int(ids->GetId(2))});
-  }
+  for (const auto& v : file.vertices) mesh.vertices.emplace_back(v[0], v[1], v[2]);
+  for (const auto& t : file.triangles) mesh.triangles.push_back({int(t[0]), int(t[1]), int(t[2])});
   connect(mesh);
   return mesh;
 }

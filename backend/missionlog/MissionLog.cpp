@@ -2,6 +2,9 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
 #include <utility>
 
 namespace ambler::missionlog {
@@ -65,14 +68,28 @@ class Statement {
     if (rc != SQLITE_DONE) db_.fail("reading or writing");
     return false;
   }
-  double real(int col) const { return sqlite3_column_double(stmt_, col); }
-  std::int64_t integer(int col) const { return sqlite3_column_int64(stmt_, col); }
+  // Typed reads: a value of another storage class (a foreign or damaged
+  // log) is refused, naming the column, instead of read as 0 or "".
+  bool isNull(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+  double real(int col) const {
+    expect(col, {SQLITE_FLOAT, SQLITE_INTEGER}, "a number");
+    const double v = sqlite3_column_double(stmt_, col);
+    if (!std::isfinite(v)) bad(col, "finite");
+    return v;
+  }
+  std::int64_t integer(int col) const {
+    expect(col, {SQLITE_INTEGER}, "a whole number");
+    return sqlite3_column_int64(stmt_, col);
+  }
+  // NULL reads as "" (the operator of a message from the rover).
   std::string text(int col) const {
+    expect(col, {SQLITE_TEXT, SQLITE_NULL}, "text");
     const auto* p = sqlite3_column_text(stmt_, col);
     return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, col))
              : std::string();
   }
   link::Bytes blob(int col) const {
+    expect(col, {SQLITE_BLOB, SQLITE_NULL}, "bytes");
     const auto* p = static_cast<const std::uint8_t*>(sqlite3_column_blob(stmt_, col));
     return p ? link::Bytes(p, p + sqlite3_column_bytes(stmt_, col)) : link::Bytes();
   }
@@ -81,6 +98,18 @@ class Statement {
   Statement& check(int rc) {
     if (rc != SQLITE_OK) db_.fail("binding a value");
     return *this;
+  }
+  const char* name(int col) const {
+    const char* n = sqlite3_column_name(stmt_, col);
+    return n ? n : "?";
+  }
+  void expect(int col, std::initializer_list<int> types, const char* what) const {
+    const int type = sqlite3_column_type(stmt_, col);
+    if (std::find(types.begin(), types.end(), type) == types.end()) bad(col, what);
+  }
+  [[noreturn]] void bad(int col, const char* what) const {
+    throw LogError(db_.path().string() + ": a value of column " + name(col) + " is not " + what +
+                   " (a damaged or foreign mission log)");
   }
   const Database& db_;
   sqlite3_stmt* stmt_ = nullptr;
@@ -107,7 +136,8 @@ std::string verdictName(Verdict verdict) {
   return "?";
 }
 
-Database::Database(const std::filesystem::path& path, bool writable) : path_(path) {
+Database::Database(const std::filesystem::path& path, bool writable)
+    : path_(path), writable_(writable) {
   if (!writable && !std::filesystem::exists(path)) throw LogError(path.string() + ": no such file");
   const int flags = writable ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE : SQLITE_OPEN_READONLY;
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) fail("opening");
@@ -115,9 +145,20 @@ Database::Database(const std::filesystem::path& path, bool writable) : path_(pat
 }
 
 Database::Database(Database&& other) noexcept
-    : path_(std::move(other.path_)), db_(std::exchange(other.db_, nullptr)) {}
+    : path_(std::move(other.path_)),
+      writable_(other.writable_),
+      db_(std::exchange(other.db_, nullptr)) {}
 
-Database::~Database() { sqlite3_close_v2(db_); }
+Database::~Database() {
+  // A log closed cleanly becomes one self-contained file again: in WAL mode
+  // every later reader, even a read-only one, would leave -wal and -shm
+  // files beside it. Another connection still open keeps it in WAL.
+  if (db_ && writable_) {
+    sqlite3_busy_timeout(db_, 0);
+    sqlite3_exec(db_, "PRAGMA journal_mode=DELETE", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close_v2(db_);
+}
 
 void Database::exec(const std::string& sql) const {
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) fail("writing");
@@ -194,14 +235,44 @@ void MissionLog::recordProduct(double time_s, const std::string& kind,
 }
 
 MissionLogReader::MissionLogReader(const std::filesystem::path& path) : db_(path, false) {
+  // The log may come from anywhere: SQLite's advice for untrusted files
+  // (no schema-defined functions, no writes to its own tables, cell sizes
+  // checked).
+  sqlite3_db_config(db_.handle(), SQLITE_DBCONFIG_DEFENSIVE, 1, nullptr);
+  sqlite3_db_config(db_.handle(), SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, nullptr);
+  sqlite3_exec(db_.handle(), "PRAGMA cell_size_check = ON", nullptr, nullptr, nullptr);
   // A file that is not SQLite, or SQLite without our tables, fails here.
   sqlite3_stmt* probe = nullptr;
   const int rc = sqlite3_prepare_v2(
       db_.handle(), "SELECT value FROM meta WHERE key = 'schema_version'", -1, &probe, nullptr);
   const bool found = rc == SQLITE_OK && sqlite3_step(probe) == SQLITE_ROW;
   const std::string problem = rc == SQLITE_OK ? "no schema version" : sqlite3_errmsg(db_.handle());
+  const auto* version = found ? sqlite3_column_text(probe, 0) : nullptr;
+  const std::string version_text = version ? reinterpret_cast<const char*>(version) : "";
   sqlite3_finalize(probe);
   if (!found) throw LogError(path.string() + ": not a mission log (" + problem + ")");
+  if (version_text != std::to_string(kSchemaVersion))
+    throw LogError(path.string() + ": mission log schema '" + version_text.substr(0, 40) +
+                   "', this program reads " + std::to_string(kSchemaVersion));
+  checkColumns();
+}
+
+void MissionLogReader::checkColumns() const {
+  const std::pair<const char*, std::vector<std::string>> tables[] = {
+      {"messages",
+       {"id", "time_s", "direction", "type", "rover_id", "operator", "sequence", "payload"}},
+      {"decisions", {"id", "time_s", "operator", "proposal", "verdict", "detail"}},
+      {"products", {"id", "time_s", "kind", "parameters", "data"}}};
+  for (const auto& [table, columns] : tables) {
+    Statement info(db_,
+                   (std::string("SELECT name FROM pragma_table_info('") + table + "')").c_str());
+    std::vector<std::string> found;
+    while (info.step()) found.push_back(info.text(0));
+    for (const auto& column : columns)
+      if (std::find(found.begin(), found.end(), column) == found.end())
+        throw LogError(db_.path().string() + ": not a mission log (table " + table +
+                       (found.empty() ? " is missing)" : " has no column " + column + ")"));
+  }
 }
 
 Summary MissionLogReader::summary() const {
@@ -215,9 +286,9 @@ Summary MissionLogReader::summary() const {
     s.messages += long(counts.integer(2));
   }
   Statement span(db_,
-                 "SELECT MIN(t), MAX(t) FROM (SELECT time_s AS t FROM messages"
+                 "SELECT MIN(t) AS time_s, MAX(t) AS time_s FROM (SELECT time_s AS t FROM messages"
                  " UNION ALL SELECT time_s FROM decisions)");
-  if (span.step()) s.first_s = span.real(0), s.last_s = span.real(1);
+  if (span.step() && !span.isNull(0)) s.first_s = span.real(0), s.last_s = span.real(1);
   Statement verdicts(db_, "SELECT verdict, COUNT(*) FROM decisions GROUP BY verdict");
   while (verdicts.step()) {
     const long n = long(verdicts.integer(1));

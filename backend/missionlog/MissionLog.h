@@ -79,6 +79,7 @@ class Database {
 
  private:
   std::filesystem::path path_;
+  bool writable_ = false;
   sqlite3* db_ = nullptr;
 };
 
@@ -113,6 +114,7 @@ class MissionLogReader {
   std::vector<LoggedProduct> products() const;  // in time order
 
  private:
+  void checkColumns() const;
   Database db_;
 };
 

@@ -16,9 +16,10 @@ struct CameraFile {
 };
 CameraFile readCameraFile(const std::filesystem::path& json);
 
-// A grey-level image (PNG, PGM, JPEG, TIFF: whatever OpenCV's imgcodecs
-// reads; colour is converted to grey, 16-bit scaled to 0-255). Throws
-// io::FormatError naming the file when it cannot be read.
+// A grey-level image (PNG, PGM/PPM, JPEG or TIFF, told by its first bytes;
+// OpenCV's imgcodecs decodes it; colour is converted to grey, 16-bit scaled
+// to 0-255), at most 64 million pixels, all finite. Throws io::FormatError
+// "<path>: image ..." naming the problem.
 io::FloatImage readGreyImage(const std::filesystem::path& path);
 
 }  // namespace ambler::vision

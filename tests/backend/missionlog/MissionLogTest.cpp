@@ -5,7 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <fstream>
+#include <vector>
 
 namespace ambler::missionlog {
 namespace {
@@ -112,6 +114,73 @@ TEST_F(MissionLogTest, FilesThatAreNotMissionLogsAreNamedAndRefused) {
     other.exec("CREATE TABLE t(x);");
   }
   expectRefused(dir_ / "other.sqlite", "not a mission log (no such table: meta)");
+}
+
+// A log's damage is named whatever form it takes: a wrong schema version, a
+// missing table or column, values of the wrong type, a cut file.
+TEST_F(MissionLogTest, DamagedOrForeignLogsAreRefusedNamingTheProblem) {
+  auto refusal = [](const std::filesystem::path& path) -> std::string {
+    try {
+      const MissionLogReader reader(path);
+      (void)reader.summary();
+      (void)reader.messages(-INFINITY, INFINITY);
+      (void)reader.decisions();
+      (void)reader.products();
+    } catch (const LogError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path.string() + ": ", 0), 0u) << e.what();
+      return e.what();
+    }
+    return "accepted";
+  };
+  auto logWith = [&](const std::string& name, const std::string& sql) {
+    const auto path = dir_ / name;
+    {
+      MissionLog log(path, "m");
+      log.record(1.0, bodyMove(1));
+      log.record(Decision{2.0, "alice", 1, Verdict::kApproved, "ok"});
+    }
+    if (!sql.empty()) Database(path, true).exec(sql);
+    return path;
+  };
+  EXPECT_EQ(refusal(logWith("good.sqlite", "")), "accepted");
+  EXPECT_NE(refusal(logWith("v2.sqlite",
+                            "UPDATE meta SET value = '2' WHERE key = "
+                            "'schema_version'"))
+                .find("mission log schema '2', this program reads 1"),
+            std::string::npos);
+  EXPECT_NE(refusal(logWith("no-products.sqlite", "DROP TABLE products"))
+                .find("table products is missing"),
+            std::string::npos);
+  EXPECT_NE(refusal(logWith("no-detail.sqlite", "ALTER TABLE decisions DROP COLUMN detail"))
+                .find("table decisions has no column detail"),
+            std::string::npos);
+  EXPECT_NE(refusal(logWith("text-time.sqlite", "UPDATE messages SET time_s = 'noon'"))
+                .find("column time_s is not a number"),
+            std::string::npos);
+  EXPECT_NE(refusal(logWith("int-payload.sqlite", "UPDATE messages SET payload = 12"))
+                .find("column payload is not bytes"),
+            std::string::npos);
+  EXPECT_NE(
+      refusal(logWith("inf-time.sqlite", "UPDATE decisions SET time_s = 9e999")).find("not finite"),
+      std::string::npos);
+
+  // Cut to its first page, and its first 100 bytes (inside SQLite's header).
+  for (const std::uintmax_t size : {4096u, 100u}) {
+    const auto path = logWith("cut-" + std::to_string(size) + ".sqlite", "");
+    std::filesystem::resize_file(path, size);
+    EXPECT_NE(refusal(path), "accepted") << size;
+  }
+}
+
+// A log closed cleanly is one file: reading it leaves nothing beside it.
+TEST_F(MissionLogTest, AClosedLogIsOneFileAndReadingItLeavesNoOther) {
+  const auto path = dir_ / "mission.sqlite";
+  MissionLog(path, "m").record(1.0, bodyMove(1));
+  EXPECT_EQ(MissionLogReader(path).summary().messages, 1);
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_))
+    names.push_back(entry.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"mission.sqlite"});
 }
 
 // A child process writes records and reports each one acknowledged (the

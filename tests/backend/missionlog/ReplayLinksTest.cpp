@@ -1,9 +1,10 @@
 #include "missionlog/ReplayLinks.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <deque>
+
+#include "TempDir.h"
 
 namespace ambler::missionlog {
 namespace {
@@ -32,9 +33,7 @@ class ReplayTest : public ::testing::Test {
   // A session recorded through a RecordingLink with a clock the test sets:
   // bodies at t = 10, 11, 12, 13, legs 0 and 1 at 10.5 and 12.5, one command.
   void SetUp() override {
-    path_ = std::filesystem::temp_directory_path() /
-            ("ambler_replay_" + std::to_string(::getpid()) + ".sqlite");
-    std::filesystem::remove(path_);
+    path_ = dir_ / "replay.sqlite";
     MissionLog log(path_, "replay test");
     ScriptedLink rover;
     double now = 0;
@@ -57,7 +56,7 @@ class ReplayTest : public ::testing::Test {
     at(12.5, leg(0, 1.5));
     at(13.0, body(1.5));
   }
-  void TearDown() override { std::filesystem::remove(path_); }
+  TempDir dir_;
   std::filesystem::path path_;
 };
 

@@ -1,8 +1,9 @@
 #include "replay/MissionTimeline.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
+#include <memory>
 
+#include "TempDir.h"
 #include "executive/WalkExecutive.h"
 #include "io/FormatError.h"
 #include "missionlog/ReplayLinks.h"
@@ -39,9 +40,8 @@ bool endedFirst(const executive::Task& a, const executive::Task& b) {
 class MissionTimelineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    log_path_ = std::filesystem::temp_directory_path() /
-                ("ambler_timeline_" + std::to_string(::getpid()) + ".sqlite");
-    std::filesystem::remove(log_path_);
+    dir_ = std::make_unique<TempDir>();
+    log_path_ = *dir_ / "timeline.sqlite";
     missionlog::MissionLog log(log_path_, "timeline test");
     rover::SimulatedRoverOptions rover_options;
     rover_options.operators = {alice()};
@@ -69,8 +69,9 @@ class MissionTimelineTest : public ::testing::Test {
         tasks_.push_back(task);
     std::sort(tasks_.begin(), tasks_.end(), endedFirst);
   }
-  static void TearDownTestSuite() { std::filesystem::remove(log_path_); }
+  static void TearDownTestSuite() { dir_.reset(); }
 
+  static inline std::unique_ptr<TempDir> dir_;
   static inline std::filesystem::path log_path_;
   static inline std::vector<terrain::ElevationMap> maps_;
   static inline gait::Stance final_;
@@ -178,9 +179,7 @@ TEST_F(MissionTimelineTest, BuildingCanBeCancelled) {
 }
 
 TEST(MissionTimeline, BadLogsAreNamedNotCrashedOn) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("ambler_timeline_bad_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const TempDir dir;
   EXPECT_THROW(MissionTimeline::build(dir / "missing.sqlite"), missionlog::LogError);
 
   const auto path = dir / "bad.sqlite";
@@ -207,7 +206,6 @@ TEST(MissionTimeline, BadLogsAreNamedNotCrashedOn) {
   const auto timeline = MissionTimeline::build(path);  // the truncated message left out
   EXPECT_EQ(timeline.unreadable(), 1);
   EXPECT_TRUE(timeline.maps().empty());
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
