@@ -32,26 +32,38 @@ mkdir -p build/fuzz/artifacts
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 common=(-max_len=65536 -rss_limit_mb=2048 -timeout=10 -print_final_stats=1)
 status=0
-for target in "${targets[@]}"; do
-  regression=tests/fuzz/corpus/$target
-  if [ "$mode" = "--regress" ]; then
-    corpus=build/fuzz/regress/$target
-    rm -rf "$corpus"
-    run=(-runs=$regress_runs -seed=$regress_seed)
-    echo "fuzz: $target: $(ls "$regression" | wc -l) regression inputs, then $regress_runs runs from seed $regress_seed"
-  else
-    corpus=build/fuzz/corpus/$target
-    run=(-max_total_time="$mode")
-    echo "fuzz: $target for $mode s"
-  fi
+# Regress mode runs each target on a fixed list of inputs (its seeds and the
+# regression corpus, in name order) with no corpus directory, so directory
+# order cannot change the run; with address randomisation off (setarch -R:
+# comparisons of pointers feed the mutator) and no corpus reloads (timed),
+# libFuzzer then makes the same mutations every time.
+regress() {
+  local target=$1 seeds=build/fuzz/seeds/$1 inputs
+  rm -rf "$seeds" && mkdir -p "$seeds"
+  build/fuzz/fuzz/$target -runs=0 "$seeds" > /dev/null 2>&1  # writes the seeds
+  inputs=$(find "$seeds" "tests/fuzz/corpus/$target" -type f | LC_ALL=C sort | paste -sd, -)
+  echo "fuzz: $target: $(ls "tests/fuzz/corpus/$target" | wc -l) regression inputs and its seeds, then $regress_runs runs from seed $regress_seed"
+  setarch "$(uname -m)" -R build/fuzz/fuzz/$target "${common[@]}" -runs=$regress_runs \
+    -seed=$regress_seed -reload=0 -seed_inputs="$inputs" \
+    -artifact_prefix=build/fuzz/artifacts/$target-
+}
+
+explore() {
+  local target=$1 corpus=build/fuzz/corpus/$1
   mkdir -p "$corpus"
-  if ! build/fuzz/fuzz/$target "${common[@]}" "${run[@]}" \
-      -artifact_prefix=build/fuzz/artifacts/$target- "$corpus" "$regression" \
-      > "build/fuzz/$target.log" 2>&1; then
+  echo "fuzz: $target for $mode s"
+  build/fuzz/fuzz/$target "${common[@]}" -max_total_time="$mode" \
+    -artifact_prefix=build/fuzz/artifacts/$target- "$corpus" "tests/fuzz/corpus/$target"
+}
+
+for target in "${targets[@]}"; do
+  if [ "$mode" = "--regress" ]; then run=regress; else run=explore; fi
+  if ! $run "$target" > "build/fuzz/$target.log" 2>&1; then
     tail -n 60 "build/fuzz/$target.log"
     echo "fuzz: $target FAILED (log: build/fuzz/$target.log)"
     status=1
   else
+    head -n 1 "build/fuzz/$target.log"
     grep -E "stat::number_of_executed_units|cov: " "build/fuzz/$target.log" | tail -n 2
   fi
 done

@@ -89,8 +89,9 @@ std::optional<std::uint64_t> tiffPixels(const Bytes& b) {
   auto read = [&](std::size_t at, int n) {
     return little ? littleEndian(b, at, n) : bigEndian(b, at, n);
   };
+  if (b.size() < 8) return std::nullopt;
   const std::uint64_t ifd = read(4, 4);
-  if (b.size() < 8 || ifd + 2 > b.size()) return std::nullopt;
+  if (ifd + 2 > b.size()) return std::nullopt;
   const std::uint64_t entries = read(ifd, 2);
   std::uint64_t size[2] = {0, 0};
   for (std::uint64_t e = 0; e < entries && ifd + 2 + 12 * (e + 1) <= b.size(); ++e) {

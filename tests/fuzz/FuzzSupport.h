@@ -18,16 +18,17 @@ namespace ambler::fuzz {
 
 using Bytes = std::vector<std::uint8_t>;
 
-// A directory of this process's own, removed at exit.
+// A directory of this process's own, removed at exit. Its name has the same
+// length whatever the pid, so paths cannot steer a target's coverage.
 inline const std::filesystem::path& scratchDir() {
   static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("ambler-fuzz-" + std::to_string(::getpid()));
+    char name[32];
+    std::snprintf(name, sizeof name, "ambler-fuzz-%010d", int(::getpid()));
+    auto d = std::filesystem::temp_directory_path() / name;
     std::filesystem::create_directories(d);
     std::atexit([] {
       std::error_code ec;
-      std::filesystem::remove_all(
-          std::filesystem::temp_directory_path() / ("ambler-fuzz-" + std::to_string(::getpid())),
-          ec);
+      std::filesystem::remove_all(scratchDir(), ec);
     });
     return d;
   }();

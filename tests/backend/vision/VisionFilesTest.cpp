@@ -92,6 +92,10 @@ TEST_F(GreyImageFile, RefusesHostileFilesNamingTheProblem) {
   const std::vector<std::uint8_t> no_size = {'I', 'I', 42, 0, 8, 0, 0, 0, 0, 0};
   EXPECT_NE(problem(write("nosize.tif", no_size)).find("its header gives no size"),
             std::string::npos);
+  // Found by fuzz_camera_image (corpus tiff-magic-only.tif): the size peek
+  // read the directory offset of a TIFF cut after its magic.
+  EXPECT_NE(problem(write("magic.tif", {'I', 'I', 42, 0})).find("its header gives no size"),
+            std::string::npos);
 
   cv::Mat floats(2, 2, CV_32F, cv::Scalar(1.0f));
   floats.at<float>(0, 1) = std::numeric_limits<float>::quiet_NaN();
