@@ -70,4 +70,16 @@ inline void seedCorpus(int argc, char** argv, const std::function<std::vector<By
   std::abort();
 }
 
+// Runs `read`: its documented refusal `Refusal` is an answer, any other
+// exception a defect.
+template <typename Refusal, typename Read>
+void refusalOnly(Read read) {
+  try {
+    read();
+  } catch (const Refusal&) {
+  } catch (const std::exception& e) {
+    unexpected(e.what());
+  }
+}
+
 }  // namespace ambler::fuzz

@@ -23,16 +23,6 @@ std::vector<fuzz::Bytes> seeds() {
   return out;
 }
 
-template <typename Read>
-void expectFormatErrorOnly(const std::filesystem::path& path, Read read) {
-  try {
-    read(path);
-  } catch (const io::FormatError&) {
-  } catch (const std::exception& e) {
-    fuzz::unexpected(e.what());
-  }
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
@@ -42,9 +32,9 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto path = fuzz::writeScratch("config.json", data, size);
-  expectFormatErrorOnly(path, [](const auto& p) { link::readOperatorKey(p); });
-  expectFormatErrorOnly(path, [](const auto& p) { link::readOperatorKeys(p); });
-  expectFormatErrorOnly(path, [](const auto& p) { gait::readRoverConfig(p); });
-  expectFormatErrorOnly(path, [](const auto& p) { footfall::readFootfallConfig(p); });
+  fuzz::refusalOnly<io::FormatError>([&] { link::readOperatorKey(path); });
+  fuzz::refusalOnly<io::FormatError>([&] { link::readOperatorKeys(path); });
+  fuzz::refusalOnly<io::FormatError>([&] { gait::readRoverConfig(path); });
+  fuzz::refusalOnly<io::FormatError>([&] { footfall::readFootfallConfig(path); });
   return 0;
 }
