@@ -290,11 +290,12 @@ void readAscii(const Parser& p, PcdCloud& c, const std::string& text) {
     std::size_t t = 0;
     for (const auto& f : h.fields)
       for (int e = 0; e < f.count; ++e, ++t) {
-        const double v = p.real(tokens[t], "value of " + f.name);
+        const double v = p.real(tokens[t], "point " + std::to_string(point) + " " + f.name);
         if (f.type == 'F' && !std::isfinite(v)) c.dense = false;
         if (f.type != 'F' && !fits(f, v))
-          p.fail("value " + Parser::printable(tokens[t]) + " of " + f.name + " is not a " +
-                 (f.type == 'U' ? "unsigned" : "signed") + " whole number of " +
+          p.fail("point " + std::to_string(point) + " " + f.name + " " +
+                 Parser::printable(tokens[t]) + " is not " +
+                 (f.type == 'U' ? "an unsigned" : "a signed") + " integer of " +
                  std::to_string(f.size) + " bytes");
         c.values.push_back(v);
       }

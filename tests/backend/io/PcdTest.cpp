@@ -232,11 +232,12 @@ TEST_F(Pcd, RefusesDataOfTheWrongLengthOrKind) {
   EXPECT_NE(
       problem(head + "DATA ascii\n1 2 3\n4 5 6\n7 8 9\n1 1 1\n2 2 2\n").find("more than 4 points"),
       std::string::npos);
-  EXPECT_NE(problem(head + "DATA ascii\n1 2 3\n4 5 six\n7 8 9\n1 1 1\n").find("'six'"),
+  EXPECT_NE(problem(head + "DATA ascii\n1 2 3\n4 5 six\n7 8 9\n1 1 1\n")
+                .find("point 1 z 'six' is not a number"),
             std::string::npos);
   EXPECT_NE(problem(header("FIELDS x y z i\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 1\nHEIGHT 1\n"
                            "POINTS 1\nDATA ascii\n1 2 3 256\n"))
-                .find("not a unsigned whole number of 1 bytes"),
+                .find("point 0 i 256 is not an unsigned integer of 1 bytes"),
             std::string::npos);
 }
 
