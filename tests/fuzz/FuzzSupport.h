@@ -20,17 +20,21 @@ using Bytes = std::vector<std::uint8_t>;
 
 // A directory of this process's own, removed at exit. Its name has the same
 // length whatever the pid, so paths cannot steer a target's coverage.
+inline std::filesystem::path scratchPath() {
+  char name[32];
+  std::snprintf(name, sizeof name, "ambler-fuzz-%010d", int(::getpid()));
+  return std::filesystem::temp_directory_path() / name;
+}
+
 inline const std::filesystem::path& scratchDir() {
   static const std::filesystem::path dir = [] {
-    char name[32];
-    std::snprintf(name, sizeof name, "ambler-fuzz-%010d", int(::getpid()));
-    auto d = std::filesystem::temp_directory_path() / name;
-    std::filesystem::create_directories(d);
+    std::filesystem::create_directories(scratchPath());
+    // Not `dir` itself: statics are destroyed before this runs.
     std::atexit([] {
       std::error_code ec;
-      std::filesystem::remove_all(scratchDir(), ec);
+      std::filesystem::remove_all(scratchPath(), ec);
     });
-    return d;
+    return scratchPath();
   }();
   return dir;
 }
