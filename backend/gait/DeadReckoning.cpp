@@ -71,4 +71,23 @@ DeadReckoningResult deadReckon(const std::vector<int>& legs,
   return result;
 }
 
+void KinematicOdometry::legMoved(int leg, const LegJoints& joints) {
+  estimate_.feet.at(std::size_t(leg)) = estimate_.body.toWorld(model_.footInBody(leg, joints));
+}
+
+DeadReckoningResult KinematicOdometry::bodyMoved(const std::array<LegJoints, kLegCount>& joints) {
+  std::vector<int> legs;
+  std::vector<Eigen::Vector3d> body, world;
+  for (int i = 0; i < kLegCount; ++i) {
+    legs.push_back(i);
+    body.push_back(model_.footInBody(i, joints[std::size_t(i)]));
+    world.push_back(estimate_.feet[std::size_t(i)]);
+  }
+  const DeadReckoningResult dr = deadReckon(legs, body, world, options_);
+  estimate_.body = dr.body;
+  for (int leg : dr.slipped_legs)
+    estimate_.feet[std::size_t(leg)] = estimate_.body.toWorld(body[std::size_t(leg)]);
+  return dr;
+}
+
 }  // namespace ambler::gait

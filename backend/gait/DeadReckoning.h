@@ -1,8 +1,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
+#include "gait/RoverModel.h"
 #include "gait/Stance.h"
 
 namespace ambler::gait {
@@ -30,5 +32,29 @@ DeadReckoningResult deadReckon(const std::vector<int>& legs,
                                const std::vector<Eigen::Vector3d>& feet_in_body,
                                const std::vector<Eigen::Vector3d>& stored_world,
                                const DeadReckoningOptions& options = {});
+
+// The rover's own pose estimate from its joint encoders alone, move by move
+// (cmu-1990 'Real-time control'): a foot set down is stored where the
+// encoders put it from the estimated body; after a body move the body is
+// dead-reckoned from every foot, and a foot found slipped is stored again
+// where it now is. It drifts with encoder noise, placement errors and
+// slips; correcting it is the ground's work (scan registration).
+class KinematicOdometry {
+ public:
+  KinematicOdometry(RoverModel model, Stance start, DeadReckoningOptions options = {})
+      : model_(std::move(model)), estimate_(std::move(start)), options_(options) {}
+
+  // A leg move ended (completed or stopped by a contact) with these readings.
+  void legMoved(int leg, const LegJoints& joints);
+  // A body move ended with these readings of every leg.
+  DeadReckoningResult bodyMoved(const std::array<LegJoints, kLegCount>& joints);
+
+  const Stance& estimate() const { return estimate_; }
+
+ private:
+  RoverModel model_;
+  Stance estimate_;
+  DeadReckoningOptions options_;
+};
 
 }  // namespace ambler::gait

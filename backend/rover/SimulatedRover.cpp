@@ -11,6 +11,7 @@ SimulatedRover::SimulatedRover(const walk::WalkConfig& config, SimulatedRoverOpt
       options_(std::move(options)),
       world_(options_.seed, config.gait.model, config.gait.gait, config.noise, config.scanner,
              options_.scanned_area),
+      odometry_(config.gait.model, world_.rover().truth()),
       verifier_(options_.rover_id, options_.operators) {}
 
 link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) const {
@@ -34,15 +35,19 @@ std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
 }
 
 std::vector<link::Telemetry> SimulatedRover::state(double now_s) {
+  return report(now_s, world_.rover().legStates());
+}
+
+// A real rover knows its body only from its encoders, and so does this one:
+// it reports the pose it dead-reckons, which drifts from the truth.
+std::vector<link::Telemetry> SimulatedRover::report(
+    double now_s, const std::array<sim::LegState, gait::kLegCount>& legs) const {
   std::vector<link::Telemetry> out;
-  const auto legs = world_.rover().legStates();
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
     const auto& s = legs[std::size_t(leg)];
     out.push_back(message(now_s, link::LegState{leg, s.joints, s.contact, s.force_n}));
   }
-  // The simulator knows where the body is; a real rover would report its
-  // own estimate. The ground dead-reckons from the leg states either way.
-  const auto& body = world_.rover().truth().body;
+  const auto& body = odometry_.estimate().body;
   out.push_back(message(
       now_s, link::BodyState{body.xy.x(), body.xy.y(), body.link_z, body.heading_rad, false}));
   return out;
@@ -76,32 +81,39 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
 std::string SimulatedRover::execute(const link::Command& command, double now_s,
                                     std::vector<link::Telemetry>& out) {
   const auto& body = command.body;
-  if (const auto* m = std::get_if<link::LegMove>(&body)) {
-    world_.rover().executeLeg({m->leg, m->waypoints});
-  } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
-    world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
-  } else if (const auto* m = std::get_if<link::AcquireScan>(&body)) {
-    if (m->sensor == link::ScanSensor::kLightStriper)
+  if (const auto* m = std::get_if<link::AcquireScan>(&body)) {
+    if (m->sensor == link::ScanSensor::kLightStriper) {
       out.push_back(message(now_s, world_.striperScan(++scans_)));
-    else
-      out.push_back(message(now_s, world_.scan(++scans_)));
+    } else {
+      sensor::RangeImage image = world_.scan(++scans_);
+      image.sensor_to_world = world_.mountPose(odometry_.estimate().body);  // where it believes
+      out.push_back(message(now_s, std::move(image)));
+    }
     return {};
-  } else if (std::holds_alternative<link::Grasp>(body)) {
-    return "this rover has no manipulator";
-  } else if (std::holds_alternative<link::Hold>(body)) {
+  }
+  if (std::holds_alternative<link::Grasp>(body)) return "this rover has no manipulator";
+  if (std::holds_alternative<link::Hold>(body)) {
     // Every move completes before the next command is read, so holding is
     // refusing the next motion.
     holding_ = "Hold from " + command.operator_id;
     out.push_back(heartbeat(now_s));
     return {};
-  } else {  // Resume: and the whole state, for a console that joins now
-    holding_.clear();
-    out.push_back(heartbeat(now_s));
-    const auto states = state(now_s);
-    out.insert(out.end(), states.begin(), states.end());
-    return {};
   }
-  const auto states = state(now_s);
+  if (std::holds_alternative<link::Resume>(body)) {
+    holding_.clear();
+    out.push_back(heartbeat(now_s));  // and the whole state, for a console that joins now
+  } else if (const auto* m = std::get_if<link::LegMove>(&body)) {
+    world_.rover().executeLeg({m->leg, m->waypoints});
+  } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
+    world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
+  }
+  // The readings reported are the ones the rover dead-reckons from.
+  const auto legs = world_.rover().legStates();
+  if (const auto* m = std::get_if<link::LegMove>(&body))
+    odometry_.legMoved(m->leg, legs[std::size_t(m->leg)].joints);
+  else if (std::holds_alternative<link::BodyMove>(body))
+    odometry_.bodyMoved(sim::jointsOf(legs));
+  const auto states = report(now_s, legs);
   out.insert(out.end(), states.begin(), states.end());
   return {};
 }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gait/DeadReckoning.h"
 #include "link/Messages.h"
 #include "link/Signing.h"
 #include "sim/RoverWorld.h"
@@ -43,20 +44,27 @@ class SimulatedRover {
   // moment the ground has been silent for longer than the timeout.
   std::vector<link::Telemetry> watchLink(double now_s);
   bool holding() const { return !holding_.empty(); }
-  // Every leg and the body, as the rover reports them now.
+  // Every leg and the body, as the rover reports them now: the encoders'
+  // readings and its own dead-reckoned body pose.
   std::vector<link::Telemetry> state(double now_s);
+  // Where the rover believes it is; the truth is world().rover().truth(),
+  // for evaluations only.
+  const gait::Stance& estimate() const { return odometry_.estimate(); }
 
   std::uint32_t roverId() const { return options_.rover_id; }
   const sim::RoverWorld& world() const { return world_; }
 
  private:
   link::Telemetry message(double now_s, link::TelemetryBody body) const;
+  std::vector<link::Telemetry> report(double now_s,
+                                      const std::array<sim::LegState, gait::kLegCount>& legs) const;
   std::string execute(const link::Command& command, double now_s,
                       std::vector<link::Telemetry>& out);
 
   walk::WalkConfig config_;
   SimulatedRoverOptions options_;
   sim::RoverWorld world_;
+  gait::KinematicOdometry odometry_;
   link::CommandVerifier verifier_;
   std::uint64_t heartbeats_ = 0, scans_ = 0;
   std::string holding_;                 // why the rover holds; empty: it does not

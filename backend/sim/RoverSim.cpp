@@ -9,6 +9,13 @@
 
 namespace ambler::sim {
 
+std::array<gait::LegJoints, gait::kLegCount> jointsOf(
+    const std::array<LegState, gait::kLegCount>& legs) {
+  std::array<gait::LegJoints, gait::kLegCount> out;
+  for (std::size_t i = 0; i < legs.size(); ++i) out[i] = legs[i].joints;
+  return out;
+}
+
 namespace {
 
 // Highest ground under a foot disk, from its centre and two rings.

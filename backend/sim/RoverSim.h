@@ -52,6 +52,10 @@ struct LegState {
   double force_n = 0.0;    // what the force sensor reads [N]
 };
 
+// The encoder readings of every leg.
+std::array<gait::LegJoints, gait::kLegCount> jointsOf(
+    const std::array<LegState, gait::kLegCount>& legs);
+
 struct MoveReport {
   bool completed = true;  // false when a contact stopped the move early
   std::string event;      // "", "touch-down", "unexpected contact", "kinematic limit"

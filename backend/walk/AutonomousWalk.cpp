@@ -94,7 +94,7 @@ class Walker {
         world_(options.seed, config.gait.model, config.gait.gait, config.noise, config.scanner,
                options.map_extent),
         map_(GridSpec::covering(options.map_extent, options.map_resolution_m)),
-        estimate_(world_.rover().truth()) {}
+        odometry_(config.gait.model, world_.rover().truth()) {}
 
   WalkResult run();
 
@@ -109,7 +109,7 @@ class Walker {
   const WalkOptions& opt_;
   sim::RoverWorld world_;
   terrain::ElevationMap map_;
-  gait::Stance estimate_;
+  gait::KinematicOdometry odometry_;  // what the rover's encoders tell
   WalkResult result_;
 };
 
@@ -180,7 +180,6 @@ Executed Walker::execute(const Planned& p, int scan_index) {
 // Stores the new foothold where the encoders put it, then dead-reckons the
 // body from the feet (cmu-1990 'Real-time control').
 void Walker::update(const Planned& p, const Executed& e) {
-  const auto& m = cfg_.gait.model;
   WalkStep step;
   step.leg = p.plan.leg;
   step.foothold = p.plan.foothold;
@@ -191,24 +190,13 @@ void Walker::update(const Planned& p, const Executed& e) {
   step.event = e.leg.event.empty() ? e.body.event : e.leg.event;
   result_.leg_collisions += e.leg.collisions + e.body.collisions;
 
-  const gait::BodyPose before = estimate_.body;
-  if (p.plan.leg >= 0)
-    estimate_.feet[std::size_t(p.plan.leg)] =
-        before.toWorld(m.footInBody(p.plan.leg, e.after_leg[std::size_t(p.plan.leg)].joints));
-  std::vector<int> legs;
-  std::vector<Eigen::Vector3d> body, world;
-  for (int i = 0; i < gait::kLegCount; ++i) {
-    legs.push_back(i);
-    body.push_back(m.footInBody(i, e.after_body[std::size_t(i)].joints));
-    world.push_back(estimate_.feet[std::size_t(i)]);
-  }
-  const gait::DeadReckoningResult dr = gait::deadReckon(legs, body, world);
-  estimate_.body = dr.body;
-  for (int leg : dr.slipped_legs)
-    estimate_.feet[std::size_t(leg)] = estimate_.body.toWorld(body[std::size_t(leg)]);
+  const gait::BodyPose before = odometry_.estimate().body;
+  if (p.plan.leg >= 0) odometry_.legMoved(p.plan.leg, e.after_leg[std::size_t(p.plan.leg)].joints);
+  const gait::DeadReckoningResult dr = odometry_.bodyMoved(sim::jointsOf(e.after_body));
   step.slipped_feet_detected = int(dr.slipped_legs.size());
   step.dead_reckoning_error_m =
-      ((estimate_.body.xy - before.xy) - (e.true_after_body - e.true_before_body)).norm();
+      ((odometry_.estimate().body.xy - before.xy) - (e.true_after_body - e.true_before_body))
+          .norm();
   result_.slips_detected += step.slipped_feet_detected;
   result_.dead_reckoning_error_m =
       std::max(result_.dead_reckoning_error_m, step.dead_reckoning_error_m);
@@ -218,10 +206,11 @@ void Walker::update(const Planned& p, const Executed& e) {
 }
 
 bool Walker::diverged(const gait::Stance& predicted) const {
-  if ((predicted.body.xy - estimate_.body.xy).norm() > 0.05) return true;
-  if (std::abs(predicted.body.heading_rad - estimate_.body.heading_rad) > 0.02) return true;
+  if ((predicted.body.xy - odometry_.estimate().body.xy).norm() > 0.05) return true;
+  if (std::abs(predicted.body.heading_rad - odometry_.estimate().body.heading_rad) > 0.02)
+    return true;
   for (int i = 0; i < gait::kLegCount; ++i)
-    if ((predicted.feet[std::size_t(i)] - estimate_.feet[std::size_t(i)]).norm() > 0.05)
+    if ((predicted.feet[std::size_t(i)] - odometry_.estimate().feet[std::size_t(i)]).norm() > 0.05)
       return true;
   return false;
 }
@@ -230,9 +219,9 @@ WalkResult Walker::run() {
   const OmpThreadsInScope one_core(1);  // the ground's; execute() runs on the rover's
   const Eigen::Vector2d start = world_.rover().truth().body.xy;
   sensor::RangeImage first = world_.scan(0);
-  first.sensor_to_world = world_.mountPose(estimate_.body);
+  first.sensor_to_world = world_.mountPose(odometry_.estimate().body);
   integrate(first);
-  Planned next = plan(estimate_);
+  Planned next = plan(odometry_.estimate());
   // The walk's wall time runs from the first command sent (set-up and the
   // first scan and plan are the same in both modes).
   const auto t0 = Clock::now();
@@ -241,7 +230,7 @@ WalkResult Walker::run() {
     if (!next.plan.ok && pending) {  // planned ahead without the last scan: retry with it
       integrate(*pending);
       pending.reset();
-      next = plan(estimate_);
+      next = plan(odometry_.estimate());
       ++result_.replans;
     }
     if (!next.plan.ok) {
@@ -262,7 +251,7 @@ WalkResult Walker::run() {
       next = plan(current.plan.after);
       Executed done = running.get();
       update(current, done);
-      done.scan.sensor_to_world = world_.mountPose(estimate_.body);
+      done.scan.sensor_to_world = world_.mountPose(odometry_.estimate().body);
       pending = std::move(done.scan);
       const bool surprise = !done.leg.event.empty() && done.leg.event != "touch-down";
       const bool drifted = diverged(current.plan.after);
@@ -270,15 +259,16 @@ WalkResult Walker::run() {
       // stance; a surprise or a failed recheck needs a new plan.
       std::optional<gait::StepPlan> kept;
       if (!surprise && drifted && next.plan.ok)
-        kept = gait::reanchorStep(next.plan, next.from, estimate_, opt_.heading, cfg_.gait);
+        kept =
+            gait::reanchorStep(next.plan, next.from, odometry_.estimate(), opt_.heading, cfg_.gait);
       if (kept) {
         next.plan = std::move(*kept);
-        next.from = estimate_;
+        next.from = odometry_.estimate();
         ++result_.rechecked;
       } else if (surprise || drifted) {
         integrate(*pending);
         pending.reset();
-        next = plan(estimate_);
+        next = plan(odometry_.estimate());
         result_.log.back().replanned = true;
         ++result_.replans;
       }
@@ -286,9 +276,9 @@ WalkResult Walker::run() {
       Executed done = execute(current, k + 1);
       update(current, done);
       if (!last) {  // (only concurrent walks leave a scan pending)
-        done.scan.sensor_to_world = world_.mountPose(estimate_.body);
+        done.scan.sensor_to_world = world_.mountPose(odometry_.estimate().body);
         integrate(done.scan);
-        next = plan(estimate_);
+        next = plan(odometry_.estimate());
       }
     }
   }
@@ -301,7 +291,8 @@ WalkResult Walker::run() {
   result_.distance_m = (world_.rover().truth().body.xy - start).norm();
   result_.heading_change_deg =
       world_.rover().truth().body.heading_rad * 180.0 / M_PI;  // started at 0
-  result_.dead_reckoning_drift_m = (world_.rover().truth().body.xy - estimate_.body.xy).norm();
+  result_.dead_reckoning_drift_m =
+      (world_.rover().truth().body.xy - odometry_.estimate().body.xy).norm();
   result_.slips = world_.rover().slips();
   result_.trace = world_.rover().trace();
   for (const auto& s : result_.trace) {

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "gait/DeadReckoning.h"
+#include "gait/GaitPlanner.h"
 
 namespace ambler::gait {
 namespace {
@@ -59,6 +60,43 @@ TEST(DeadReckoning, DetectsASlippedFootAndLeavesItOut) {
   ASSERT_TRUE(r.ok);
   ASSERT_EQ(r.slipped_legs, std::vector<int>{3});
   EXPECT_LT((r.body.xy - truth.xy).norm(), 1e-9);
+}
+
+// The rover's odometry with exact readings: a foot set down is stored where
+// it is, and a body move (0.4 m forward, 0.05 rad left) is recovered
+// exactly from the six feet.
+TEST(KinematicOdometry, FollowsExactReadingsMoveByMove) {
+  const RoverModel m;
+  Stance truth = nominalStance({{1, 2}, 0.3, 2.4}, m, GaitOptions{});
+  KinematicOdometry odometry(m, truth);
+  truth.feet[2] += Eigen::Vector3d(0.0, 0.3, 0.05);  // leg 2 steps
+  odometry.legMoved(2, truth.joints(m, 2));
+  EXPECT_LT((odometry.estimate().feet[2] - truth.feet[2]).norm(), 1e-9);
+  truth.body.xy += truth.body.rotation() * Eigen::Vector2d(0.0, 0.4);
+  truth.body.heading_rad += 0.05;
+  std::array<LegJoints, kLegCount> joints;
+  for (int i = 0; i < kLegCount; ++i) joints[std::size_t(i)] = truth.joints(m, i);
+  const auto r = odometry.bodyMoved(joints);
+  EXPECT_TRUE(r.ok && r.slipped_legs.empty());
+  EXPECT_LT((odometry.estimate().body.xy - truth.body.xy).norm(), 1e-9);
+  EXPECT_NEAR(odometry.estimate().body.heading_rad, truth.body.heading_rad, 1e-9);
+  EXPECT_NEAR(odometry.estimate().body.link_z, truth.body.link_z, 1e-9);
+}
+
+// A foot that slid 8 cm during a body move is left out of the fit and then
+// stored where the encoders now put it, so the next move starts from it.
+TEST(KinematicOdometry, StoresASlippedFootWhereItNowIs) {
+  const RoverModel m;
+  Stance truth = nominalStance({{0, 0}, 0.0, 2.4}, m, GaitOptions{});
+  KinematicOdometry odometry(m, truth);
+  truth.body.xy.y() += 0.3;
+  truth.feet[4] += Eigen::Vector3d(0.08, 0.0, 0.0);
+  std::array<LegJoints, kLegCount> joints;
+  for (int i = 0; i < kLegCount; ++i) joints[std::size_t(i)] = truth.joints(m, i);
+  const auto r = odometry.bodyMoved(joints);
+  EXPECT_EQ(r.slipped_legs, std::vector<int>{4});
+  EXPECT_LT((odometry.estimate().body.xy - truth.body.xy).norm(), 1e-9);
+  EXPECT_LT((odometry.estimate().feet[4] - truth.feet[4]).norm(), 1e-9);
 }
 
 TEST(DeadReckoning, RefusesMismatchedInput) {

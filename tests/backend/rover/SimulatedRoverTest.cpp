@@ -167,8 +167,45 @@ TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
   EXPECT_NEAR(image.sensor_to_world.translation().x(), body.xy.x(), 1e-9);
 }
 
-// The same exchange through the link: a console sends, the rover's thread
-// answers; heartbeats keep coming while the console waits.
+// A real rover knows its pose only from its encoders: the simulated one
+// reports the body it dead-reckons (and tags its scans with it), which
+// drifts from the truth with the execution noise; without noise the two
+// agree.
+TEST(SimulatedRover, ReportsItsOwnDeadReckonedPoseNotTheTruth) {
+  walk::WalkConfig exact = config();
+  exact.noise = {.encoder_rotation_rad = 0,
+                 .encoder_extension_m = 0,
+                 .encoder_vertical_m = 0,
+                 .placement_m = 0,
+                 .body_m = 0,
+                 .body_rad = 0,
+                 .slip_probability = 0};
+  for (const bool noisy : {true, false}) {
+    SimulatedRover rover(noisy ? config() : exact, options());
+    link::CommandSigner signer(alice());
+    for (int k = 0; k < 10; ++k) {
+      const double dy = k % 2 ? -0.25 : 0.25;
+      const auto out = rover.handle(command(link::BodyMove{0.0, dy, 0.0, 0.0}, &signer), k);
+      ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+      const auto& reported = std::get<link::BodyState>(out.back().body);
+      EXPECT_EQ(reported.x_m, rover.estimate().body.xy.x());
+      EXPECT_EQ(reported.y_m, rover.estimate().body.xy.y());
+    }
+    const auto& truth = rover.world().rover().truth().body;
+    const double drift = (rover.estimate().body.xy - truth.xy).norm();
+    if (noisy) {
+      EXPECT_GT(drift, 1e-4);  // 2.5 m walked at about 1 cm per metre of body error
+      EXPECT_LT(drift, 0.05);
+    } else {
+      EXPECT_LT(drift, 1e-9);
+    }
+    const auto scan = rover.handle(command(link::AcquireScan{}, &signer), 20.0);
+    const auto& image = std::get<sensor::RangeImage>(scan.at(1).body);
+    EXPECT_EQ(image.sensor_to_world.matrix(),
+              rover.world().mountPose(rover.estimate().body).matrix());
+  }
+}
+
 // The striper image holds the ground ahead: its points lie on the course's
 // surface (to the striper's 0.5 mm noise plus the marching tolerance) in
 // front of the body.
@@ -200,6 +237,8 @@ TEST(SimulatedRover, AcquireScanWithTheStriperSendsTheGroundAhead) {
   EXPECT_EQ(back.camera.camera_to_world.matrix(), image.camera.camera_to_world.matrix());
 }
 
+// The same exchange through the link: a console sends, the rover's thread
+// answers; heartbeats keep coming while the console waits.
 TEST(InProcessLink, CommandsGoOutAndTelemetryComesBack) {
   InProcessLink link(config(), options(), std::chrono::milliseconds(20));
   link::CommandSigner signer(alice());
