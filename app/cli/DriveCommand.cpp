@@ -9,9 +9,9 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "executive/WalkExecutive.h"
+#include "gait/RoverConfig.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
-#include "walk/AutonomousWalk.h"
 
 namespace ambler::cli {
 
@@ -60,7 +60,7 @@ int drive(const DriveArgs& a) {
     throw std::invalid_argument(
         "drive has no operator to ask: pass --auto-approve (every interlock still runs) or "
         "approve steps in ambler-gs");
-  const auto config = walk::readDefaultWalkConfig();
+  const auto context = gait::readInstalledGaitContext();
   link::CommandSigner signer(link::readOperatorKey(a.key), missionlog::firstSequenceFromClock());
   missionlog::MissionLog log(a.log, "drive rover " + std::to_string(a.rover_id));
   link::dds::DdsLink dds(a.domain, a.rover_id);
@@ -73,7 +73,7 @@ int drive(const DriveArgs& a) {
   executive::ExecutiveOptions options;
   options.rover_id = a.rover_id;
   options.steps = a.steps;
-  executive::WalkExecutive executive(link, signer, gate, config.gait, options);
+  executive::WalkExecutive executive(link, signer, gate, context, options);
   executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
     log.recordProduct(t, kind, parameters);
   });

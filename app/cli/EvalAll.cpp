@@ -43,9 +43,9 @@ const Headline kHeadlines[] = {
      "over 30 % (cmu-1990, Task Control)"},
     {"walking speed while moving", "/walk/speed_while_moving_m_per_min", "m/min",
      "0.35 m/min overall, 75 % of it moving: 0.47 m/min (cmu-1990, fig. 6); design: 1 m/min"},
-    {"dead reckoning, worst move of a walk (median of walks)",
-     "/walk/dead_reckoning_worst_move_m/median", "m",
-     "typically within 1-2 cm (cmu-1990, Real-Time Control)"},
+    {"dead-reckoned position error at the end of a walk (median of walks)",
+     "/walk/pose_error_final_m/median", "m",
+     "typically within 1-2 cm per move (cmu-1990, Real-Time Control)"},
     {"CSP violations in 5 x 25 steps", "/walk/csp_violations", "",
      "the 1990 NASA demo: some 25 autonomous steps over sand, boulders, a ramp and out of a "
      "1 m trench"},

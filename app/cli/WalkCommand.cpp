@@ -1,5 +1,7 @@
 // ambler-cli walk: a headless autonomous walk across the simulated obstacle
-// course (cmu-1990: scan, map, merge, footfall, gait plan, execute).
+// course (cmu-1990: scan, map, merge, footfall, gait plan, execute), by the
+// walk executive ambler-gs runs, auto-approving steps that pass every
+// interlock.
 #include <memory>
 
 #include "cli/Arguments.h"
@@ -30,11 +32,8 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
   nlohmann::json j = {{"leg", s.leg},
                       {"body_u", s.body_u},
                       {"plan_ms", s.plan_ms},
-                      {"execute_s", s.execute_s},
-                      {"csp_margin_m", s.csp_margin_m},
-                      {"dead_reckoning_error_m", s.dead_reckoning_error_m},
-                      {"slipped_feet_detected", s.slipped_feet_detected},
-                      {"replanned", s.replanned},
+                      {"planned_ahead", s.planned_ahead},
+                      {"pose_error_m", s.pose_error_m},
                       {"event", s.event}};
   if (s.leg >= 0) j["foothold"] = {s.foothold.x(), s.foothold.y(), s.foothold.z()};
   return j;
@@ -49,12 +48,10 @@ nlohmann::json resultJson(const walk::WalkResult& r, bool concurrent, bool log) 
                         {"csp_violations", r.csp_violations},
                         {"leg_collisions", r.leg_collisions},
                         {"plan_ms_median", r.plan_ms_median},
-                        {"dead_reckoning_error_m", r.dead_reckoning_error_m},
-                        {"dead_reckoning_drift_m", r.dead_reckoning_drift_m},
+                        {"pose_error_final_m", r.pose_error_final_m},
+                        {"pose_error_max_m", r.pose_error_max_m},
                         {"slips", r.slips},
-                        {"slips_detected", r.slips_detected},
                         {"replans", r.replans},
-                        {"rechecked", r.rechecked},
                         {"wall_s", r.wall_s},
                         {"ground_busy_s", r.ground_busy_s},
                         {"modelled_execution_s", r.modelled_execution_s}};
@@ -75,7 +72,7 @@ struct Comparison {
 // The same walk planned concurrently and one step after the other. Without
 // a given scale, execution is scaled to the Ambler's ratio to its ground
 // work, measured on a sequential walk without waiting.
-Comparison compareModes(const walk::WalkConfig& config, walk::WalkOptions o) {
+Comparison compareModes(const walk::WalkSetup& config, walk::WalkOptions o) {
   Comparison c;
   if (o.time_scale == 0.0) {
     o.concurrent = false;
@@ -95,13 +92,13 @@ Comparison compareModes(const walk::WalkConfig& config, walk::WalkOptions o) {
   return c;
 }
 
-walk::WalkConfig readConfig(const WalkArgs& a) {
+walk::WalkSetup readConfig(const WalkArgs& a) {
   auto config_path = [](const std::string& given, const char* resource) {
     return given.empty() ? findResource(resource) : fs::path(given);
   };
-  return walk::readWalkConfig(config_path(a.rover_config, "config/rover.json"),
-                              config_path(a.footfall_config, "config/footfall.json"),
-                              config_path(a.scanner_config, "config/rover-scanner.json"));
+  return walk::readWalkSetup(config_path(a.rover_config, "config/rover.json"),
+                             config_path(a.footfall_config, "config/footfall.json"),
+                             config_path(a.scanner_config, "config/rover-scanner.json"));
 }
 
 void runWalk(const WalkArgs& a) {
@@ -144,7 +141,7 @@ struct EvalWalkArgs {
 // sequentially (cmu-1990: concurrency saved over 30 % of the walking time).
 nlohmann::json evalWalk(const EvalWalkArgs& a) {
   const auto config = readConfig(WalkArgs{});
-  std::vector<double> distance, margin, dead_reckoning, plan_ms, saving;
+  std::vector<double> distance, margin, pose_error, plan_ms, saving;
   int violations = 0, collisions = 0, stopped = 0;
   double concurrent_s = 0.0, sequential_s = 0.0, total_m = 0.0, moving_s = 0.0;
   for (const auto seed : a.seeds) {
@@ -155,7 +152,7 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
     const auto& r = c.concurrent;
     distance.push_back(r.distance_m);
     margin.push_back(r.min_stability_margin_m);
-    dead_reckoning.push_back(r.dead_reckoning_error_m);
+    pose_error.push_back(r.pose_error_final_m);
     plan_ms.push_back(r.plan_ms_median);
     saving.push_back(100.0 * (1.0 - r.wall_s / c.sequential.wall_s));
     violations += r.csp_violations, collisions += r.leg_collisions, stopped += !r.stopped.empty();
@@ -169,7 +166,7 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
           {"min_csp_margin_m", distribution(margin)},
           {"csp_violations", violations},
           {"leg_collisions", collisions},
-          {"dead_reckoning_worst_move_m", distribution(dead_reckoning)},
+          {"pose_error_final_m", distribution(pose_error)},
           {"plan_ms_median", distribution(plan_ms)},
           {"wall_saving_pct", distribution(saving)},
           {"wall_saving_pct_total", 100.0 * (1.0 - concurrent_s / sequential_s)},

@@ -24,7 +24,7 @@ namespace ambler::gs {
 GroundStation::GroundStation(StationOptions options, QObject* parent)
     : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
   choice_.seed = options_.seed;
-  window_.mapView()->setModel(options_.walk.gait.model);
+  window_.mapView()->setModel(options_.ground.model);
   wireWindow();
   connect(&open_watcher_, &QFutureWatcher<std::shared_ptr<replay::MissionTimeline>>::finished, this,
           &GroundStation::finishOpening);
@@ -146,9 +146,9 @@ QString GroundStation::openSession() {
         choice_.source == widgets::ConnectChoice::Source::kDds
             ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
                             choice_.key_file.toStdString())
-            : simulatorConnection(options_.walk, choice_.seed, options_.operator_id);
-    session_ =
-        std::make_unique<WalkSession>(options_.walk, std::move(rover), newLogPath().toStdString());
+            : simulatorConnection(options_.simulator, choice_.seed, options_.operator_id);
+    session_ = std::make_unique<WalkSession>(options_.ground, std::move(rover),
+                                             newLogPath().toStdString());
   } catch (const std::exception& e) {
     const QString why = tr("Could not connect: %1").arg(e.what());
     window_.showError(why);
@@ -188,7 +188,7 @@ void GroundStation::showSession() {
   window_.mapView()->setProposal(session_->pending());
   window_.mapView()->setStance(exec.reported());
   window_.terrainView()->setMap(exec.map());
-  window_.terrainView()->setRover(exec.reported(), options_.walk.gait.model, session_->pending());
+  window_.terrainView()->setRover(exec.reported(), options_.ground.model, session_->pending());
   window_.commandLog()->setRows(session_->commandRows());
   refreshTelemetry();
   if (session_->pending()) emit proposalShown();
@@ -204,7 +204,7 @@ void GroundStation::refreshTelemetry() {
   }
   const auto& exec = session_->executive();
   const double now = missionlog::groundClockS();
-  const auto sample = exec.report().sample(options_.walk.gait.model, now);
+  const auto sample = exec.report().sample(options_.ground.model, now);
   if (sample && (history_.empty() || history_.back().stance.body.xy != sample->stance.body.xy ||
                  history_.back().stance.feet != sample->stance.feet ||
                  history_.back().force_n != sample->force_n)) {
@@ -268,7 +268,7 @@ void GroundStation::finishOpening() {
   }
   if (session_) session_.reset();  // a replay cannot command anything
   timeline_ = std::make_unique<replay::MissionTimeline>(std::move(*timeline));
-  replay_history_ = timeline_->samples(options_.walk.gait.model);
+  replay_history_ = timeline_->samples(options_.ground.model);
   window_.setReplay(QFileInfo(job->path).fileName());
   window_.approvalPanel()->showProposal(std::nullopt);
   window_.approvalPanel()->setPhase(tr("replay: nothing to approve"));
@@ -288,7 +288,7 @@ void GroundStation::finishOpening() {
 
 void GroundStation::showReplayAt(double time_s) {
   if (!timeline_) return;
-  const auto rover = timeline_->roverAt(time_s).sample(options_.walk.gait.model, time_s);
+  const auto rover = timeline_->roverAt(time_s).sample(options_.ground.model, time_s);
   const auto stance = rover ? std::optional(rover->stance) : std::nullopt;
   auto* map_view = window_.mapView();
   map_view->setProposal(std::nullopt);
@@ -300,7 +300,7 @@ void GroundStation::showReplayAt(double time_s) {
     map_view->setMap(terrain::ElevationMap(
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
   }
-  window_.terrainView()->setRover(stance, options_.walk.gait.model, std::nullopt);
+  window_.terrainView()->setRover(stance, options_.ground.model, std::nullopt);
   window_.telemetry()->setRover(rover);
   window_.telemetry()->setCursor(time_s - timeline_->firstS());
   window_.commandLog()->setCurrentTime(time_s);

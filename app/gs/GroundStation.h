@@ -16,11 +16,12 @@
 namespace ambler::gs {
 
 struct StationOptions {
-  quint64 seed = 1;                  // the built-in simulator's course
-  QString operator_id = "operator";  // who approves
-  QString log_dir;                   // where live walks are logged
-  sim::ScannerModel scanner;         // for the range-image view's scans
-  walk::WalkConfig walk;
+  quint64 seed = 1;                       // the built-in simulator's course
+  QString operator_id = "operator";       // who approves
+  QString log_dir;                        // where live walks are logged
+  sim::ScannerModel scanner;              // for the range-image view's scans
+  gait::GaitContext ground;               // what the station plans with
+  rover::SimulatedRoverConfig simulator;  // the built-in simulator's rover
 };
 
 // The ground station's wiring (QGroundControl style: the views never know

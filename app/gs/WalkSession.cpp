@@ -19,7 +19,7 @@ link::OperatorKey sessionKey(const QString& operator_id) {
 
 }  // namespace
 
-RoverConnection simulatorConnection(const walk::WalkConfig& config, std::uint64_t seed,
+RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
                                     const QString& operator_id) {
   RoverConnection c;
   c.key = sessionKey(operator_id);
@@ -31,10 +31,10 @@ RoverConnection simulatorConnection(const walk::WalkConfig& config, std::uint64_
   return c;
 }
 
-WalkSession::WalkSession(const walk::WalkConfig& config, RoverConnection rover,
+WalkSession::WalkSession(const gait::GaitContext& context, RoverConnection rover,
                          const std::filesystem::path& log_path, QObject* parent)
     : QObject(parent),
-      context_(config.gait),
+      context_(context),
       log_path_(log_path),
       log_(log_path, rover.mission),
       gate_([this](const missionlog::Decision& d) {

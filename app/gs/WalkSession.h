@@ -9,8 +9,8 @@
 #include "executive/WalkExecutive.h"
 #include "missionlog/ReplayLinks.h"
 #include "replay/CommandTable.h"
+#include "rover/SimulatedRover.h"
 #include "sampling/GraspPlan.h"
-#include "walk/AutonomousWalk.h"
 
 namespace ambler::gs {
 
@@ -26,7 +26,7 @@ struct RoverConnection {
 
 // The built-in simulator on course `seed`, commanded by `operator_id` with
 // a key made for this session.
-RoverConnection simulatorConnection(const walk::WalkConfig& config, std::uint64_t seed,
+RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
                                     const QString& operator_id);
 
 // One walk as the GUI runs it: a link to a rover (the simulator in this
@@ -41,7 +41,7 @@ class WalkSession : public QObject {
  public:
   // Recorded in the log at `log_path` (created, or appended to;
   // missionlog::LogError when it cannot be).
-  WalkSession(const walk::WalkConfig& config, RoverConnection rover,
+  WalkSession(const gait::GaitContext& context, RoverConnection rover,
               const std::filesystem::path& log_path, QObject* parent = nullptr);
   ~WalkSession() override;
 

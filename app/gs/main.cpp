@@ -14,6 +14,7 @@
 #include "app/gs/GroundStation.h"
 #include "core/Memory.h"
 #include "core/Resources.h"
+#include "gait/RoverConfig.h"
 #include "rendering/VtkView.h"
 #include "widgets/TerrainView.h"
 
@@ -105,7 +106,8 @@ int main(int argc, char** argv) {
   options.log_dir = parser.value(log_dir_option);
   try {
     options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
-    options.walk = ambler::walk::readDefaultWalkConfig();
+    options.ground = ambler::gait::readInstalledGaitContext();
+    options.simulator = ambler::rover::readInstalledSimulatedRoverConfig();
   } catch (const std::exception& e) {
     QMessageBox::critical(nullptr, "Ambler Ground Station", e.what());
     return 1;

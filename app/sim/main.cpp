@@ -31,7 +31,7 @@ struct Args {
 
 void run(const Args& a) {
   using namespace ambler;
-  const auto config = walk::readDefaultWalkConfig();
+  const auto config = rover::readInstalledSimulatedRoverConfig();
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
   options.seed = a.seed;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -55,6 +56,9 @@ struct GridSpec {
 
   // The smallest grid at `resolution` that covers `box`.
   static GridSpec covering(const Box2& box, double resolution);
+  // This grid's cells that overlap `box`, on the same lattice; no cells
+  // when none do.
+  GridSpec window(const Box2& box) const;
 };
 
 inline GridSpec GridSpec::covering(const Box2& box, double resolution) {
@@ -65,6 +69,19 @@ inline GridSpec GridSpec::covering(const Box2& box, double resolution) {
   g.cols = static_cast<int>(std::ceil(box.width() / resolution - 1e-9));
   g.rows = static_cast<int>(std::ceil(box.height() / resolution - 1e-9));
   return g;
+}
+
+inline GridSpec GridSpec::window(const Box2& box) const {
+  const int c0 = std::max(0, static_cast<int>(std::floor((box.x_min - origin_x) / resolution)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((box.y_min - origin_y) / resolution)));
+  const int c1 = std::min(cols, static_cast<int>(std::ceil((box.x_max - origin_x) / resolution)));
+  const int r1 = std::min(rows, static_cast<int>(std::ceil((box.y_max - origin_y) / resolution)));
+  GridSpec w = *this;
+  w.origin_x = origin_x + c0 * resolution;
+  w.origin_y = origin_y + r0 * resolution;
+  w.cols = std::max(0, c1 - c0);
+  w.rows = std::max(0, r1 - r0);
+  return w;
 }
 
 }  // namespace ambler

@@ -2,11 +2,21 @@
 
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
-#include "terrain/Locus.h"
 #include "terrain/Merge.h"
 
 namespace ambler::executive {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
 
 std::string phaseName(Phase phase) {
   switch (phase) {
@@ -181,36 +191,82 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
   if (moving) move_acked_ = true;
 }
 
-void WalkExecutive::planAndPropose(double now_s) {
-  terrain::mergeInto(map_, terrain::buildLocusMap(*scan_, map_.grid()));
-  if (scan_sink_) scan_sink_(*scan_);
-  scan_.reset();
+// LTM builder and merger (cmu-1990): the scan's locus map over the part of
+// the traverse map its returns fall in, fused into it.
+void WalkExecutive::mapScan(const sensor::RangeImage& scan, double now_s) {
+  const auto t0 = Clock::now();
+  const GridSpec window = terrain::mergeScan(map_, scan);
+  scanner_ = scan.geometry;
+  work_.mapping_s += secondsSince(t0);
+  if (scan_sink_) scan_sink_(scan);
   if (product_sink_) {
-    const auto& g = map_.grid();
-    std::ostringstream p;
-    p.precision(17);
-    p << R"({"method": "locus", "merged_into": "local terrain map", "range_image_time_s": )"
-      << scan_time_s_ << R"(, "origin_x": )" << g.origin_x << R"(, "origin_y": )" << g.origin_y
-      << R"(, "resolution": )" << g.resolution << R"(, "cols": )" << g.cols << R"(, "rows": )"
-      << g.rows << "}";
-    product_sink_(now_s, "elevation_map", p.str());
+    // The traverse map's grid (what a replay rebuilds) and the part merged.
+    const GridSpec& g = map_.grid();
+    const nlohmann::json p = {{"method", "locus"},
+                              {"merged_into", "traverse map"},
+                              {"range_image_time_s", scan_time_s_},
+                              {"origin_x", g.origin_x},
+                              {"origin_y", g.origin_y},
+                              {"resolution", g.resolution},
+                              {"cols", g.cols},
+                              {"rows", g.rows},
+                              {"window_origin_x", window.origin_x},
+                              {"window_origin_y", window.origin_y},
+                              {"window_cols", window.cols},
+                              {"window_rows", window.rows}};
+    product_sink_(now_s, "elevation_map", p.dump());
   }
+}
+
+// The scanner looks along the body's forward axis (+y in the body frame).
+std::optional<footfall::ScannerView> WalkExecutive::scannerView(const gait::Stance& from) const {
+  if (!scanner_) return std::nullopt;
+  footfall::ScannerView view;
+  view.position = from.body.xy;
+  view.heading_rad = from.body.heading_rad + M_PI / 2;
+  view.horizontal_fov_rad = std::abs(scanner_->theta_step) * scanner_->cols;
+  return view;
+}
+
+gait::StepPlan WalkExecutive::plan(const gait::Stance& from) {
+  const auto t0 = Clock::now();
+  gait::StepPlan p = gait::planStep(from, opt_.heading, map_, ctx_, scannerView(from));
+  work_.planning_s += secondsSince(t0);
+  return p;
+}
+
+void WalkExecutive::planAndPropose(double now_s) {
+  mapScan(*scan_, now_s);
+  scan_.reset();
   plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
   tasks_.start(plan_task_, now_s);
+  const bool had_ahead = ahead_.has_value();
   std::optional<gait::StepPlan> ahead = takeAhead();
   if (ahead) {
     ++planned_ahead_;
     note(now_s, "step " + std::to_string(steps_done_ + 1) +
                     ": the plan made during the step before, moved onto the reported stance");
   }
-  gait::StepPlan plan =
-      ahead ? std::move(*ahead) : gait::planStep(*reported_, opt_.heading, map_, ctx_);
+  step_ = StepRecord{};
+  step_.event = std::exchange(replanned_because_, {});
+  step_.planned_ahead = ahead.has_value();
+  step_.replanned = (had_ahead && !ahead) || !step_.event.empty();
+  step_.plan_ms = ahead_ms_;
+  if (!ahead) {
+    const auto t0 = Clock::now();
+    ahead = plan(*reported_);
+    step_.plan_ms = 1e3 * secondsSince(t0);
+  }
+  gait::StepPlan plan = std::move(*ahead);
   if (!plan.ok) {
     tasks_.fail(plan_task_, now_s, plan.reason);
     suspend(now_s, "no step to propose: " + plan.reason, false);
     return;
   }
   tasks_.finish(plan_task_, now_s);
+  step_.leg = plan.leg;
+  step_.foothold = plan.foothold;
+  step_.body_u = plan.body_u;
   approval_task_ = tasks_.add(step_task_, TaskKind::kApproval, "approval", plan_task_);
   tasks_.start(approval_task_, now_s);
   phase_ = Phase::kAwaitingDecision;
@@ -221,12 +277,14 @@ void WalkExecutive::planAndPropose(double now_s) {
 // while the ground plans.
 void WalkExecutive::planAhead(double now_s) {
   ahead_.reset();
-  if (steps_done_ + 1 >= opt_.steps) return;
+  if (!opt_.plan_ahead || steps_done_ + 1 >= opt_.steps) return;
   const int task = tasks_.add(walk_task_, TaskKind::kQuery,
                               "plan step " + std::to_string(steps_done_ + 2) + " ahead");
   tasks_.start(task, now_s);
   ahead_from_ = executing_->plan.after;
-  gait::StepPlan plan = gait::planStep(ahead_from_, opt_.heading, map_, ctx_);
+  const auto t0 = Clock::now();
+  gait::StepPlan plan = this->plan(ahead_from_);
+  ahead_ms_ = 1e3 * secondsSince(t0);
   if (!plan.ok) {
     tasks_.fail(task, now_s, plan.reason);
     return;
@@ -244,6 +302,8 @@ std::optional<gait::StepPlan> WalkExecutive::takeAhead() {
   ahead_.reset();
   const auto& now = *reported_;
   if ((now.body.xy - ahead_from_.body.xy).norm() > opt_.off_plan_m) return std::nullopt;
+  if (std::abs(now.body.heading_rad - ahead_from_.body.heading_rad) > opt_.off_plan_rad)
+    return std::nullopt;
   for (int i = 0; i < gait::kLegCount; ++i)
     if ((now.feet[std::size_t(i)] - ahead_from_.feet[std::size_t(i)]).norm() > opt_.off_plan_m)
       return std::nullopt;
@@ -304,6 +364,8 @@ void WalkExecutive::afterMove(double now_s) {
       tasks_.suspend(step_task_, now_s, "early contact");
       note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
                       " from its foothold (early contact): replanning");
+      replanned_because_ = "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
+                           " short (early contact), replanned";
       executing_.reset();
       ahead_.reset();
       requestScan(now_s);
@@ -311,10 +373,12 @@ void WalkExecutive::afterMove(double now_s) {
     }
   } else {
     const double off = (reported_->body.xy - plan.after.body.xy).norm();
-    if (off > opt_.off_plan_m)
+    if (off > opt_.off_plan_m) {
       note(now_s, "body " + metres(off) +
                       " off its plan (slip): the next step starts from "
                       "where the rover reports it is");
+      step_.event += (step_.event.empty() ? "" : "; ") + ("body " + metres(off) + " off its plan");
+    }
   }
   if (next_command_ < executing_->commands.size())
     sendNext(now_s);
@@ -324,6 +388,8 @@ void WalkExecutive::afterMove(double now_s) {
 
 void WalkExecutive::finishStep(double now_s) {
   tasks_.finish(step_task_, now_s);
+  step_.reported = reported_->body;
+  step_log_.push_back(step_);
   executing_.reset();
   ++steps_done_;
   if (steps_done_ >= opt_.steps) {

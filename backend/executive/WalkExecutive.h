@@ -30,9 +30,13 @@ namespace ambler::executive {
 struct ExecutiveOptions {
   std::uint32_t rover_id = 1;
   int steps = 5;
-  gait::Heading heading;          // straight ahead by default
-  double ack_timeout_s = 10.0;    // a command unanswered this long: Hold, suspend
-  double off_plan_m = 0.05;       // body or foot further than this from the plan: replan
+  gait::Heading heading;        // straight ahead by default
+  double ack_timeout_s = 10.0;  // a command unanswered this long: Hold, suspend
+  double off_plan_m = 0.05;     // body or foot further than this from the plan: replan
+  double off_plan_rad = 0.02;   // or the body turned this much more or less than planned
+  // Plan the next step while the rover executes this one (cmu-1990 TCA);
+  // off: scan, plan and execute one after the other.
+  bool plan_ahead = true;
   double early_contact_m = 0.05;  // a foot this far short of its last waypoint
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
@@ -55,6 +59,25 @@ std::string phaseName(Phase phase);
 struct ExecutiveEvent {
   double time_s = 0.0;
   std::string what;
+};
+
+// One step as the ground carried it out, for the walk's log.
+struct StepRecord {
+  int leg = -1;  // -1: a body move alone
+  Eigen::Vector3d foothold{0, 0, 0};
+  double body_u = 0.0;
+  bool planned_ahead = false;  // proposed from the plan made during the step before
+  bool replanned = false;      // its plan ahead was dropped: the rover ended off the prediction
+  double plan_ms = 0.0;        // wall time of the plan it came from
+  gait::BodyPose reported;     // where the rover reported its body after the step
+  std::string event;           // what went differently from the plan, if anything
+};
+
+// Wall time the ground spent on a walk's perception and planning: the work
+// the rover's execution can hide when planning ahead.
+struct GroundWork {
+  double mapping_s = 0.0;
+  double planning_s = 0.0;
 };
 
 // A derived product (kind, and the parameters that recompute it from the
@@ -103,6 +126,8 @@ class WalkExecutive {
   const std::optional<gait::Stance>& reported() const { return reported_; }
   const RoverReport& report() const { return report_; }
   const terrain::ElevationMap& map() const { return map_; }
+  const std::vector<StepRecord>& stepLog() const { return step_log_; }
+  const GroundWork& groundWork() const { return work_; }
   // Why the rover last said it holds; empty when it does not.
   const std::string& roverHolding() const { return rover_holding_; }
 
@@ -112,6 +137,9 @@ class WalkExecutive {
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
   void endHold(double now_s);
   void requestScan(double now_s);
+  void mapScan(const sensor::RangeImage& scan, double now_s);
+  gait::StepPlan plan(const gait::Stance& from);
+  std::optional<footfall::ScannerView> scannerView(const gait::Stance& from) const;
   void planAndPropose(double now_s);
   void planAhead(double now_s);
   std::optional<gait::StepPlan> takeAhead();
@@ -136,6 +164,11 @@ class WalkExecutive {
   // The next step, planned during this one from the stance it predicts.
   std::optional<gait::StepPlan> ahead_;
   gait::Stance ahead_from_;
+  double ahead_ms_ = 0.0;
+  std::vector<StepRecord> step_log_;
+  StepRecord step_;                // the step being carried out
+  std::string replanned_because_;  // for the step planned again after an early contact
+  GroundWork work_;
   std::uint64_t next_proposal_ = 1;
   // Where the rover reports its legs and body; filled by the state
   // telemetry that follows every move.
@@ -151,8 +184,9 @@ class WalkExecutive {
   std::string rover_holding_;
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
   bool move_acked_ = false, state_fresh_ = false;
-  std::optional<sensor::RangeImage> scan_;  // arrived, not yet mapped
-  double scan_time_s_ = 0.0;                // its rover time
+  std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
+  std::optional<sensor::ScanGeometry> scanner_;  // of the scans mapped so far
+  double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;
   std::function<void(const sensor::RangeImage&)> scan_sink_;
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;

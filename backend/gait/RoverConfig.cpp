@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/Resources.h"
+#include "footfall/FootfallConfig.h"
 #include "io/Json.h"
 
 namespace ambler::gait {
@@ -127,6 +129,17 @@ GaitContext readRoverConfig(const std::filesystem::path& path) {
     throw io::FormatError(context + ": " + e.what());
   }
   return ctx;
+}
+
+GaitContext readGaitContext(const std::filesystem::path& rover_json,
+                            const std::filesystem::path& footfall_json) {
+  GaitContext ctx = readRoverConfig(rover_json);
+  ctx.footfall = footfall::readFootfallConfig(footfall_json);
+  return ctx;
+}
+
+GaitContext readInstalledGaitContext() {
+  return readGaitContext(findResource("config/rover.json"), findResource("config/footfall.json"));
 }
 
 }  // namespace ambler::gait

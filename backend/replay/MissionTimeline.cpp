@@ -8,7 +8,6 @@
 #include "io/Json.h"
 #include "link/Codec.h"
 #include "missionlog/MissionLog.h"
-#include "terrain/Locus.h"
 #include "terrain/Merge.h"
 
 namespace ambler::replay {
@@ -107,7 +106,7 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
   for (int i = 0; i < total; ++i) {
     if (progress && !progress(i, total)) throw Cancelled();
     const auto& image = std::get<sensor::RangeImage>(scans[std::size_t(i)].message.body);
-    terrain::mergeInto(map, terrain::buildLocusMap(image, map.grid()));
+    terrain::mergeScan(map, image);
     t.maps_.push_back({scans[std::size_t(i)].time_s, map});
     t.marks_.push_back(scans[std::size_t(i)].time_s);
   }

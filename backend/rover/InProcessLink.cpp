@@ -4,10 +4,11 @@
 
 namespace ambler::rover {
 
-InProcessLink::InProcessLink(const walk::WalkConfig& config, SimulatedRoverOptions options,
-                             std::chrono::milliseconds heartbeat_period)
+InProcessLink::InProcessLink(const SimulatedRoverConfig& config, SimulatedRoverOptions options,
+                             std::chrono::milliseconds heartbeat_period, RoverObserver observer)
     : rover_(config, std::move(options)),
       heartbeat_period_(heartbeat_period),
+      observer_(std::move(observer)),
       worker_([this] { serve(); }) {}
 
 InProcessLink::~InProcessLink() {
@@ -59,6 +60,7 @@ void InProcessLink::serve() {
     std::lock_guard lock(mutex_);
     return stopping_;
   };
+  io.handled = observer_;
   runRoverLoop(rover_, heartbeat_period_, io);
 }
 

@@ -6,6 +6,7 @@
 
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -15,10 +16,16 @@
 
 namespace ambler::rover {
 
+// Sees the simulated rover on its thread after each command it handled,
+// before the answer goes out: how evaluations score a walk against the
+// truth, which the ground never sees.
+using RoverObserver = std::function<void(const link::Command&, const SimulatedRover&)>;
+
 class InProcessLink : public link::Link {
  public:
-  InProcessLink(const walk::WalkConfig& config, SimulatedRoverOptions options,
-                std::chrono::milliseconds heartbeat_period = std::chrono::milliseconds(1000));
+  InProcessLink(const SimulatedRoverConfig& config, SimulatedRoverOptions options,
+                std::chrono::milliseconds heartbeat_period = std::chrono::milliseconds(1000),
+                RoverObserver observer = {});
   ~InProcessLink() override;
 
   void send(const link::Command& command) override;
@@ -30,6 +37,7 @@ class InProcessLink : public link::Link {
 
   SimulatedRover rover_;
   std::chrono::milliseconds heartbeat_period_;
+  RoverObserver observer_;
   std::mutex mutex_;
   std::condition_variable commands_ready_, telemetry_ready_;
   std::deque<link::Command> commands_;

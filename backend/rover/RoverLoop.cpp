@@ -19,6 +19,7 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
     for (const auto& in : io.receive(wait)) {
       const auto out = in.malformed.empty() ? rover.handle(in.command, now_s())
                                             : rover.refuse(in.command, in.malformed, now_s());
+      if (io.handled) io.handled(in.command, rover);
       for (const auto& t : out) io.publish(t);
     }
     for (const auto& t : rover.watchLink(now_s())) io.publish(t);

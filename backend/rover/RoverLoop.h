@@ -25,6 +25,8 @@ struct RoverLoopIo {
   std::function<std::vector<Incoming>(std::chrono::milliseconds)> receive;
   std::function<void(const link::Telemetry&)> publish;
   std::function<bool()> stopping;
+  // Optional: called after each command is handled, before its answer goes.
+  std::function<void(const link::Command&, const SimulatedRover&)> handled;
 };
 
 void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_period,

@@ -1,17 +1,40 @@
 #include "rover/SimulatedRover.h"
 
+#include <chrono>
 #include <sstream>
+#include <thread>
 
+#include "core/Resources.h"
+#include "gait/RoverConfig.h"
 #include "link/Limits.h"
 
 namespace ambler::rover {
 
-SimulatedRover::SimulatedRover(const walk::WalkConfig& config, SimulatedRoverOptions options)
+namespace {
+
+// The Perceptron delivers 2 frames a second (cmu-1990).
+constexpr double kScanFrameS = 0.5;
+
+}  // namespace
+
+SimulatedRoverConfig readSimulatedRoverConfig(const std::filesystem::path& rover_json,
+                                              const std::filesystem::path& scanner_json) {
+  const gait::GaitContext limits = gait::readRoverConfig(rover_json);
+  return {limits.model, limits.gait, sim::readExecutionNoise(rover_json),
+          sim::readScannerModel(scanner_json)};
+}
+
+SimulatedRoverConfig readInstalledSimulatedRoverConfig() {
+  return readSimulatedRoverConfig(findResource("config/rover.json"),
+                                  findResource("config/rover-scanner.json"));
+}
+
+SimulatedRover::SimulatedRover(const SimulatedRoverConfig& config, SimulatedRoverOptions options)
     : config_(config),
       options_(std::move(options)),
-      world_(options_.seed, config.gait.model, config.gait.gait, config.noise, config.scanner,
+      world_(options_.seed, config.model, config.gait, config.noise, config.scanner,
              options_.scanned_area),
-      odometry_(config.gait.model, world_.rover().truth()),
+      odometry_(config.model, world_.rover().truth()),
       verifier_(options_.rover_id, options_.operators) {}
 
 link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) const {
@@ -67,8 +90,7 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
                      std::holds_alternative<link::BodyMove>(command.body) ||
                      std::holds_alternative<link::Grasp>(command.body);
   if (moves && holding()) reason = "holding (" + holding_ + "): send Resume first";
-  if (reason.empty())
-    reason = link::outsideLimits(command.body, config_.gait.model, config_.gait.gait);
+  if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait);
   std::vector<link::Telemetry> changes;
   if (reason.empty()) reason = execute(command, now_s, changes);
   std::vector<link::Telemetry> out{message(
@@ -80,8 +102,19 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
 // Empty, or why the command was not carried out.
 std::string SimulatedRover::execute(const link::Command& command, double now_s,
                                     std::vector<link::Telemetry>& out) {
+  const double busy_before = busy_s_;
+  std::string why = carryOut(command, now_s, out);
+  if (options_.time_scale > 0 && busy_s_ > busy_before)
+    std::this_thread::sleep_for(
+        std::chrono::duration<double>((busy_s_ - busy_before) * options_.time_scale));
+  return why;
+}
+
+std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
+                                     std::vector<link::Telemetry>& out) {
   const auto& body = command.body;
   if (const auto* m = std::get_if<link::AcquireScan>(&body)) {
+    busy_s_ += kScanFrameS;
     if (m->sensor == link::ScanSensor::kLightStriper) {
       out.push_back(message(now_s, world_.striperScan(++scans_)));
     } else {
@@ -103,9 +136,11 @@ std::string SimulatedRover::execute(const link::Command& command, double now_s,
     holding_.clear();
     out.push_back(heartbeat(now_s));  // and the whole state, for a console that joins now
   } else if (const auto* m = std::get_if<link::LegMove>(&body)) {
-    world_.rover().executeLeg({m->leg, m->waypoints});
+    last_move_ = world_.rover().executeLeg({m->leg, m->waypoints});
+    busy_s_ += last_move_.duration_s;
   } else if (const auto* m = std::get_if<link::BodyMove>(&body)) {
-    world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
+    last_move_ = world_.rover().executeBody({{m->x_m, m->y_m}, m->rotation_rad, m->raise_m});
+    busy_s_ += last_move_.duration_s;
   }
   // The readings reported are the ones the rover dead-reckons from.
   const auto legs = world_.rover().legStates();

@@ -6,6 +6,7 @@
 // changed. Behind the in-process link and behind ambler-sim's DDS endpoint.
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,9 +15,25 @@
 #include "link/Messages.h"
 #include "link/Signing.h"
 #include "sim/RoverWorld.h"
-#include "walk/AutonomousWalk.h"
 
 namespace ambler::rover {
+
+// What the simulated Ambler is and how its execution errs: the rover and
+// gait sections of rover.json (its limits), the simulation section (noise,
+// slip) and the walking scanner. Ground-station settings are read apart
+// (gait::readGaitContext).
+struct SimulatedRoverConfig {
+  gait::RoverModel model;
+  gait::GaitOptions gait;
+  sim::ExecutionNoise noise;
+  sim::ScannerModel scanner;
+};
+
+// Errors name the file and key.
+SimulatedRoverConfig readSimulatedRoverConfig(const std::filesystem::path& rover_json,
+                                              const std::filesystem::path& scanner_json);
+// config/rover.json and config/rover-scanner.json from the resources.
+SimulatedRoverConfig readInstalledSimulatedRoverConfig();
 
 struct SimulatedRoverOptions {
   std::uint32_t rover_id = 1;
@@ -26,11 +43,14 @@ struct SimulatedRoverOptions {
   // Hold on its own when no signed command (a GroundHeartbeat at least)
   // has come for this long after the first; 0: never.
   double link_timeout_s = 3.0;
+  // Wall seconds per simulated second: moves and scans take this long
+  // (their modelled duration times it) before they are answered; 0: at once.
+  double time_scale = 0.0;
 };
 
 class SimulatedRover {
  public:
-  SimulatedRover(const walk::WalkConfig& config, SimulatedRoverOptions options);
+  SimulatedRover(const SimulatedRoverConfig& config, SimulatedRoverOptions options);
 
   // The acknowledgement first (a NACK with the reason, and nothing else, if
   // refused), then what changed: leg and body states after a move, the range
@@ -53,6 +73,10 @@ class SimulatedRover {
 
   std::uint32_t roverId() const { return options_.rover_id; }
   const sim::RoverWorld& world() const { return world_; }
+  // For evaluations: the simulator's account of the last move carried out,
+  // and the simulated seconds spent moving and scanning so far.
+  const sim::MoveReport& lastMove() const { return last_move_; }
+  double modelledBusyS() const { return busy_s_; }
 
  private:
   link::Telemetry message(double now_s, link::TelemetryBody body) const;
@@ -60,8 +84,10 @@ class SimulatedRover {
                                       const std::array<sim::LegState, gait::kLegCount>& legs) const;
   std::string execute(const link::Command& command, double now_s,
                       std::vector<link::Telemetry>& out);
+  std::string carryOut(const link::Command& command, double now_s,
+                       std::vector<link::Telemetry>& out);
 
-  walk::WalkConfig config_;
+  SimulatedRoverConfig config_;
   SimulatedRoverOptions options_;
   sim::RoverWorld world_;
   gait::KinematicOdometry odometry_;
@@ -69,6 +95,8 @@ class SimulatedRover {
   std::uint64_t heartbeats_ = 0, scans_ = 0;
   std::string holding_;                 // why the rover holds; empty: it does not
   std::optional<double> last_heard_s_;  // the last signed command
+  sim::MoveReport last_move_;
+  double busy_s_ = 0.0;
 };
 
 }  // namespace ambler::rover

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/Region.h"
+#include "terrain/Locus.h"
 
 namespace ambler::terrain {
 
@@ -42,6 +43,17 @@ void mergeInto(ElevationMap& map, const ElevationMap& update) {
     const double z = (w_a * map.elevation(r, c) + w_b * z_b) / (w_a + w_b);
     map.setKnown(r, c, z, 1.0 / std::sqrt(w_a + w_b), map.count(r, c) + n_b);
   });
+}
+
+GridSpec mergeScan(ElevationMap& traverse, const sensor::RangeImage& scan) {
+  Box2 returns{INFINITY, INFINITY, -INFINITY, -INFINITY};
+  for (const auto& p : scan.pointsInWorld()) {
+    returns.x_min = std::min(returns.x_min, p.x()), returns.x_max = std::max(returns.x_max, p.x());
+    returns.y_min = std::min(returns.y_min, p.y()), returns.y_max = std::max(returns.y_max, p.y());
+  }
+  const GridSpec window = traverse.grid().window(returns);
+  if (window.cellCount() > 0) mergeInto(traverse, buildLocusMap(scan, window));
+  return window;
 }
 
 }  // namespace ambler::terrain

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "sensor/RangeImage.h"
 #include "terrain/ElevationMap.h"
 
 namespace ambler::terrain {
@@ -13,5 +14,10 @@ namespace ambler::terrain {
 // wins over unknown. Observation counts add. Throws std::invalid_argument
 // when the frames differ.
 void mergeInto(ElevationMap& map, const ElevationMap& update);
+
+// cmu-1990 'LTM builder' then 'LTM merger': the scan's locus map
+// (krotkov1989 §3) over the part of the traverse map its returns fall in,
+// fused into it. Returns that part; no cells when the returns miss the map.
+GridSpec mergeScan(ElevationMap& traverse, const sensor::RangeImage& scan);
 
 }  // namespace ambler::terrain

@@ -1,41 +1,44 @@
 #pragma once
 
+// A headless walk of the simulated Ambler, run as ambler-gs runs one: the
+// walk executive over the in-process link, its approval gate in explicit
+// auto-approve mode (every interlock still runs), the rover reporting its
+// own dead-reckoned pose. Only the scoring sees the truth, through the
+// link's observer, never the executive.
+
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "gait/GaitPlanner.h"
-#include "sim/RoverSim.h"
-#include "sim/ScannerSim.h"
+#include "rover/SimulatedRover.h"
 
 namespace ambler::walk {
 
-// Everything a simulated walk reads from the configuration files.
-struct WalkConfig {
-  gait::GaitContext gait;
-  sim::ExecutionNoise noise;
-  sim::ScannerModel scanner;
+struct WalkSetup {
+  gait::GaitContext ground;           // what the ground station plans with
+  rover::SimulatedRoverConfig rover;  // the simulated Ambler and how it errs
 };
 
-// rover.json (rover, gait, recovery, simulation), footfall.json and the
-// walking scanner's JSON; errors name the file and key.
-WalkConfig readWalkConfig(const std::filesystem::path& rover_json,
-                          const std::filesystem::path& footfall_json,
-                          const std::filesystem::path& scanner_json);
-// The installed configuration: config/rover.json, config/footfall.json and
-// config/rover-scanner.json from the resources (core/Resources.h).
-WalkConfig readDefaultWalkConfig();
+// rover.json, footfall.json and the walking scanner's JSON; errors name the
+// file and key.
+WalkSetup readWalkSetup(const std::filesystem::path& rover_json,
+                        const std::filesystem::path& footfall_json,
+                        const std::filesystem::path& scanner_json);
+// The installed configuration (core/Resources.h).
+WalkSetup readInstalledWalkSetup();
 
 struct WalkOptions {
   std::uint64_t seed = 1;  // obstacle course and execution noise
   int steps = 25;
   gait::Heading heading;  // straight ahead by default
   // Plan the next step while the current one executes (cmu-1990 TCA), or
-  // perceive, plan and execute one after the other.
+  // scan, plan and execute one after the other.
   bool concurrent = true;
-  // Wall seconds per simulated second of execution: the simulator waits
-  // this long so execution takes real time (0: no waiting).
+  // Wall seconds per simulated second of execution: the simulated rover
+  // takes this long to answer a move or a scan (0: at once).
   double time_scale = 0.0;
   double map_resolution_m = 0.1;  // the report's cost maps are on a 10 cm grid
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
@@ -46,11 +49,8 @@ struct WalkStep {
   Eigen::Vector3d foothold{0, 0, 0};
   double body_u = 0.0;
   double plan_ms = 0.0;
-  double execute_s = 0.0;  // simulated
-  double csp_margin_m = 0.0;
-  double dead_reckoning_error_m = 0.0;
-  int slipped_feet_detected = 0;
-  bool replanned = false;
+  bool planned_ahead = false;
+  double pose_error_m = 0.0;  // the body's reported position against the truth after the step
   std::string event;
 };
 
@@ -60,27 +60,29 @@ struct WalkResult {
   double distance_m = 0.0;  // true start to true end of the body
   double heading_change_deg = 0.0;
   double min_stability_margin_m = INFINITY;
+  // The least margin had any one supporting foot failed at any moment (the
+  // CSP's promise).
+  double min_margin_one_foot_lost_m = INFINITY;
   int csp_violations = 0;  // trace samples with the true CoG outside the true CSP
   int leg_collisions = 0;
   double plan_ms_median = 0.0;
-  double dead_reckoning_error_m = 0.0;  // worst over body moves
-  double dead_reckoning_drift_m = 0.0;  // estimated vs true position at the end
-  int slips = 0;                        // feet the simulator slipped
-  int slips_detected = 0;
-  int replans = 0;    // steps planned again after execution (concurrent mode)
-  int rechecked = 0;  // steps kept after rechecking them on the real stance
+  // The rover's reported (dead-reckoned) body position against the truth.
+  double pose_error_final_m = 0.0;
+  double pose_error_max_m = 0.0;
+  int slips = 0;  // feet the simulator slipped
+  int replans =
+      0;  // steps planned afresh: the rover ended off its prediction, or a leg stopped early
   double wall_s = 0.0;
   double ground_busy_s = 0.0;         // mapping and planning, wall time
   double modelled_execution_s = 0.0;  // the rover's moves and scans, simulated time
   std::string stopped;                // why the walk ended early, empty when it did not
   std::vector<WalkStep> log;
-  std::vector<sim::SupportSample> trace;
 };
 
 // cmu-1990: scan -> map (locus) -> merge -> footfall cost maps -> gait plan
-// -> leg recovery -> execute -> kinematic dead reckoning, on the obstacle
-// course of `options.seed`, `options.steps` times.
-WalkResult runWalk(const WalkConfig& config, const WalkOptions& options);
+// -> leg recovery -> execute, on the obstacle course of `options.seed`,
+// `options.steps` times.
+WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options);
 
 // The time_scale that makes a walk's execution take 0.75 of its ground work,
 // the Ambler's ratio (cmu-1990 fig. 6), from a walk run with time_scale 0:

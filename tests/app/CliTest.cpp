@@ -469,8 +469,9 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
   const auto run = runCli("walk --seed 4 --steps 6 --json");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
-  for (const char* key : {"steps", "distance_m", "min_stability_margin_m", "csp_violations",
-                          "leg_collisions", "plan_ms_median", "dead_reckoning_error_m"})
+  for (const char* key :
+       {"steps", "distance_m", "min_stability_margin_m", "csp_violations", "leg_collisions",
+        "plan_ms_median", "pose_error_final_m", "pose_error_max_m"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["steps"], 6);
   EXPECT_EQ(j["csp_violations"], 0);
@@ -493,7 +494,7 @@ TEST(Cli, EvalWalkComparesConcurrentAndSequentialPlanning) {
   EXPECT_EQ(j["csp_violations"], 0);
   EXPECT_EQ(j["leg_collisions"], 0);
   EXPECT_GT(j["distance_m"]["median"].get<double>(), 1.0);
-  EXPECT_LT(j["dead_reckoning_worst_move_m"]["max"].get<double>(), 0.05);
+  EXPECT_LT(j["pose_error_final_m"]["max"].get<double>(), 0.05);
   EXPECT_TRUE(j["wall_saving_pct_total"].is_number());
   EXPECT_GT(j["speed_while_moving_m_per_min"].get<double>(), 0.0);
 }

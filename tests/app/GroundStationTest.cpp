@@ -26,6 +26,7 @@
 
 #include "app/gs/GroundStation.h"
 #include "core/Resources.h"
+#include "gait/RoverConfig.h"
 #include "missionlog/MissionLog.h"
 #include "rendering/VtkView.h"
 #include "sim/CourseScene.h"
@@ -51,13 +52,15 @@ using ambler::widgets::StepApprovalPanel;
 namespace {
 
 ambler::gs::StationOptions options(const QString& log_dir) {
-  static const auto walk = ambler::walk::readDefaultWalkConfig();
+  static const auto ground = ambler::gait::readInstalledGaitContext();
+  static const auto simulator = ambler::rover::readInstalledSimulatedRoverConfig();
   static const auto scanner =
       ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
   ambler::gs::StationOptions o;
   o.operator_id = "alice";
   o.log_dir = log_dir;
-  o.walk = walk;
+  o.ground = ground;
+  o.simulator = simulator;
   o.scanner = scanner;
   return o;
 }
@@ -314,7 +317,7 @@ class GroundStationTest : public QObject {
     QCOMPARE(bar->time(), timeline->lastS());
     QCOMPARE(c.map.map()->knownCount(), live_known);
     QVERIFY(c.map.map()->knownCount() > first.map.knownCount());
-    const auto end = timeline->roverAt(bar->time()).stance(options({}).walk.gait.model);
+    const auto end = timeline->roverAt(bar->time()).stance(options({}).ground.model);
     QVERIFY(end);
     QVERIFY((end->body.xy - end_xy).norm() < 1e-9);
     QVERIFY(c.station.window().commandLog()->rowCount() >= rows_then);
@@ -520,7 +523,7 @@ class GroundStationTest : public QObject {
     double load_kn = 0;
     for (int leg = 0; leg < ambler::gait::kLegCount; ++leg)
       load_kn += w.telemetry()->legTable()->item(leg, 2)->text().toDouble();
-    QVERIFY2(std::abs(load_kn - options({}).walk.gait.model.mass_kg * 9.81e-3) < 0.05,
+    QVERIFY2(std::abs(load_kn - options({}).ground.model.mass_kg * 9.81e-3) < 0.05,
              qPrintable(QString::number(load_kn)));
     // Its dock shares a tab with the telemetry: bring it to the front.
     qobject_cast<QDockWidget*>(w.commandLog()->parentWidget())->raise();

@@ -15,10 +15,11 @@
 #include <thread>
 
 #include "../../TempDir.h"
+#include "InstalledConfig.h"
 #include "executive/WalkExecutive.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
-#include "walk/AutonomousWalk.h"
+#include "rover/SimulatedRover.h"
 
 namespace ambler::executive {
 namespace {
@@ -28,10 +29,8 @@ using Clock = std::chrono::steady_clock;
 
 std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
 
-const walk::WalkConfig& config() {
-  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
-  return c;
-}
+using testing_config::ground;
+using testing_config::simulator;
 
 link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 
@@ -101,7 +100,7 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
   ApprovalGate gate([&](const missionlog::Decision& d) { log.record(d); });
   ExecutiveOptions options;
   options.steps = 5;
-  WalkExecutive executive(recording, signer, gate, config().gait, options);
+  WalkExecutive executive(recording, signer, gate, ground(), options);
   executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
     log.recordProduct(t, kind, parameters);
   });

@@ -1,17 +1,17 @@
 #include <gtest/gtest.h>
 
+#include "InstalledConfig.h"
 #include "executive/WalkExecutive.h"
 #include "rover/InProcessLink.h"
+#include "rover/SimulatedRover.h"
 
 namespace ambler::executive {
 namespace {
 
 using namespace std::chrono_literals;
 
-const walk::WalkConfig& config() {
-  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
-  return c;
-}
+using testing_config::ground;
+using testing_config::simulator;
 
 link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 link::OperatorKey bob() { return {"bob", std::vector<std::uint8_t>(32, 8)}; }
@@ -19,7 +19,7 @@ link::OperatorKey bob() { return {"bob", std::vector<std::uint8_t>(32, 8)}; }
 // The in-process simulator, counting what the console sends.
 class CountingLink : public link::Link {
  public:
-  CountingLink() : inner_(config(), options(), 200ms) {}
+  CountingLink() : inner_(simulator(), options(), 200ms) {}
   void send(const link::Command& c) override {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
@@ -51,7 +51,7 @@ struct Console {
   WalkExecutive executive;
   double now = 0.0;
 
-  explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = config().gait)
+  explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = ground())
       : executive(link, signer, gate, std::move(ctx), o) {}
 
   // Polls until `done` or the rover has had 200 polls to answer.
@@ -198,7 +198,7 @@ TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   Console d(steps(3));
   d.executive.start(d.now);
   d.untilDecisionNeeded();
-  gait::GaitContext strict = config().gait;
+  gait::GaitContext strict = ground();
   strict.gait.csp_margin_m = 10.0;
   const StepProposal& planned = *d.gate.pending();
   StepProposal p = makeProposal(planned.id, planned.from, planned.plan, d.executive.map(), strict);
@@ -215,7 +215,7 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   CountingLink link;
   link::CommandSigner mallory({"mallory", std::vector<std::uint8_t>(32, 9)});
   ApprovalGate gate;
-  WalkExecutive executive(link, mallory, gate, config().gait);
+  WalkExecutive executive(link, mallory, gate, ground());
   executive.start(0.0);
   double now = 0.0;
   for (int i = 0; i < 100 && executive.phase() != Phase::kSuspended; ++i)
@@ -236,7 +236,7 @@ class SilentLink : public link::Link {
     if (!stated_) return {};
     stated_ = false;
     auto o = rover::SimulatedRoverOptions();
-    return rover::SimulatedRover(config(), o).state(0.0);
+    return rover::SimulatedRover(simulator(), o).state(0.0);
   }
   std::string describe() const override { return "silence"; }
   std::vector<std::string> sent;
@@ -251,7 +251,7 @@ TEST(Executive, WaitsForTheRoversStateThenSendsHoldWhenACommandGoesUnanswered) {
   ApprovalGate gate;
   ExecutiveOptions o;
   o.ack_timeout_s = 2.0;
-  WalkExecutive executive(link, signer, gate, config().gait, o);
+  WalkExecutive executive(link, signer, gate, ground(), o);
   executive.start(0.0);
   EXPECT_EQ(executive.phase(), Phase::kConnecting);
   EXPECT_TRUE(link.sent.empty());  // nothing before the rover is heard

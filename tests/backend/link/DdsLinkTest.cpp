@@ -14,7 +14,9 @@
 #include <map>
 #include <thread>
 
+#include "InstalledConfig.h"
 #include "rover/RoverLoop.h"
+#include "rover/SimulatedRover.h"
 
 namespace ambler::link::dds {
 namespace {
@@ -23,10 +25,8 @@ std::uint32_t testDomain() { return 20 + std::uint32_t(::getpid()) % 200; }
 
 OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 
-const walk::WalkConfig& config() {
-  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
-  return c;
-}
+using testing_config::ground;
+using testing_config::simulator;
 
 Command signedCommand(CommandBody body, CommandSigner& signer, std::uint32_t rover = 1) {
   Command c;
@@ -60,7 +60,7 @@ class RoverThread {
     rover::SimulatedRoverOptions options;
     options.operators = {alice()};
     options.scanned_area = {-6, -6, 6, 12};
-    rover_ = std::make_unique<rover::SimulatedRover>(config(), options);
+    rover_ = std::make_unique<rover::SimulatedRover>(simulator(), options);
     thread_ = std::thread([this] {
       rover::RoverLoopIo io;
       io.receive = [this](std::chrono::milliseconds timeout) {
@@ -101,7 +101,7 @@ TEST(DdsLink, CommandsAndTelemetryCrossTheDomainInOrder) {
   for (const auto& leg : only<LegState>(all)) last_load[leg.leg] = leg.force_n;
   for (const auto& [leg, force] : last_load) load_n += force;
   EXPECT_EQ(last_load.size(), std::size_t(gait::kLegCount));
-  EXPECT_NEAR(load_n, config().gait.model.mass_kg * 9.81, 1.0);
+  EXPECT_NEAR(load_n, ground().model.mass_kg * 9.81, 1.0);
 
   CommandSigner signer(alice());
   link.send(signedCommand(BodyMove{0.0, 0.2, 0.0, 0.0}, signer));

@@ -3,21 +3,21 @@
 #include <gtest/gtest.h>
 #include <memory>
 
+#include "InstalledConfig.h"
 #include "TempDir.h"
 #include "executive/WalkExecutive.h"
 #include "io/FormatError.h"
 #include "missionlog/ReplayLinks.h"
 #include "rover/InProcessLink.h"
+#include "rover/SimulatedRover.h"
 
 namespace ambler::replay {
 namespace {
 
 using namespace std::chrono_literals;
 
-const walk::WalkConfig& config() {
-  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
-  return c;
-}
+using testing_config::ground;
+using testing_config::simulator;
 
 link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 
@@ -45,7 +45,7 @@ class MissionTimelineTest : public ::testing::Test {
     missionlog::MissionLog log(log_path_, "timeline test");
     rover::SimulatedRoverOptions rover_options;
     rover_options.operators = {alice()};
-    rover::InProcessLink rover(config(), rover_options, 200ms);
+    rover::InProcessLink rover(simulator(), rover_options, 200ms);
     double now = 1000.0;
     missionlog::RecordingLink recording(rover, log, [&] { return now; });
     link::CommandSigner signer(alice());
@@ -53,7 +53,7 @@ class MissionTimelineTest : public ::testing::Test {
     gate.setMode(executive::ApprovalMode::kAutoApprove);
     executive::ExecutiveOptions options;
     options.steps = 2;
-    executive::WalkExecutive walk(recording, signer, gate, config().gait, options);
+    executive::WalkExecutive walk(recording, signer, gate, ground(), options);
     walk.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
       log.recordProduct(t, kind, parameters);
       if (kind == "elevation_map") maps_.push_back(walk.map());
@@ -125,22 +125,22 @@ TEST_F(MissionTimelineTest, ScrubbingGivesTheMapAndTheRoverOfThatTime) {
   // Later scans know more of the ground.
   EXPECT_GT(maps.back().map.knownCount(), maps.front().map.knownCount());
 
-  const auto end = timeline.roverAt(timeline.lastS()).stance(config().gait.model);
+  const auto end = timeline.roverAt(timeline.lastS()).stance(ground().model);
   ASSERT_TRUE(end);
   EXPECT_NEAR((end->body.xy - final_.body.xy).norm(), 0.0, 1e-9);
   for (int leg = 0; leg < gait::kLegCount; ++leg)
     EXPECT_NEAR((end->feet[leg] - final_.feet[leg]).norm(), 0.0, 1e-9) << leg;
-  const auto start = timeline.roverAt(maps[0].time_s).stance(config().gait.model);
+  const auto start = timeline.roverAt(maps[0].time_s).stance(ground().model);
   ASSERT_TRUE(start);
   EXPECT_GT(end->body.xy.y() - start->body.xy.y(), 0.2);  // two steps forward (+y)
   EXPECT_FALSE(timeline.roverAt(timeline.firstS() - 1).body);
-  const auto history = timeline.samples(config().gait.model);
+  const auto history = timeline.samples(ground().model);
   ASSERT_FALSE(history.empty());
   EXPECT_NEAR((history.back().stance.body.xy - final_.body.xy).norm(), 0.0, 1e-9);
   // The force sensors' loads come back from the log: the feet carry the weight.
   double load_n = 0;
   for (double f : history.back().force_n) load_n += f;
-  EXPECT_NEAR(load_n, config().gait.model.mass_kg * 9.81, 1.0);
+  EXPECT_NEAR(load_n, ground().model.mass_kg * 9.81, 1.0);
 }
 
 TEST_F(MissionTimelineTest, TheTableAnswersEachCommandAndShowsEachDecision) {

@@ -2,16 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include "InstalledConfig.h"
 #include "link/Codec.h"
 #include "rover/InProcessLink.h"
 
 namespace ambler::rover {
 namespace {
 
-const walk::WalkConfig& config() {
-  static const walk::WalkConfig c = walk::readDefaultWalkConfig();
-  return c;
-}
+using testing_config::ground;
+using testing_config::simulator;
 
 link::OperatorKey alice() { return {"alice", std::vector<std::uint8_t>(32, 7)}; }
 
@@ -36,7 +35,7 @@ const link::CommandAck& ackOf(const std::vector<link::Telemetry>& out) {
 }
 
 TEST(SimulatedRover, ASignedBodyMoveIsExecutedAndReported) {
-  SimulatedRover rover(config(), options());
+  SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
   const auto start = rover.world().rover().truth().body.xy;
   const auto out = rover.handle(command(link::BodyMove{0.0, 0.3, 0.0, 0.0}, &signer), 1.0);
@@ -50,7 +49,7 @@ TEST(SimulatedRover, ASignedBodyMoveIsExecutedAndReported) {
 }
 
 TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
-  SimulatedRover rover(config(), options());
+  SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
   const auto before = rover.world().rover().truth().body.xy;
 
@@ -77,7 +76,7 @@ TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
 // Issue 6's security test: unsigned, forged, tampered, replayed and
 // reordered commands are each refused, and nothing moves.
 TEST(SimulatedRover, ForgedReplayedAndReorderedCommandsMoveNothing) {
-  SimulatedRover rover(config(), options());
+  SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
   auto first = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
   auto second = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
@@ -119,7 +118,7 @@ const link::Heartbeat& heartbeatOf(const std::vector<link::Telemetry>& out) {
 TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
   auto o = options();
   o.link_timeout_s = 3.0;
-  SimulatedRover rover(config(), o);
+  SimulatedRover rover(simulator(), o);
   link::CommandSigner signer(alice());
   EXPECT_TRUE(rover.watchLink(100.0).empty());  // no console yet: nothing to lose
   ASSERT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 101.0)).accepted);
@@ -156,7 +155,7 @@ TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
 }
 
 TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
-  SimulatedRover rover(config(), options());
+  SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
   const auto out = rover.handle(command(link::AcquireScan{}, &signer), 1.0);
   ASSERT_TRUE(ackOf(out).accepted);
@@ -172,7 +171,7 @@ TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
 // drifts from the truth with the execution noise; without noise the two
 // agree.
 TEST(SimulatedRover, ReportsItsOwnDeadReckonedPoseNotTheTruth) {
-  walk::WalkConfig exact = config();
+  SimulatedRoverConfig exact = simulator();
   exact.noise = {.encoder_rotation_rad = 0,
                  .encoder_extension_m = 0,
                  .encoder_vertical_m = 0,
@@ -181,7 +180,7 @@ TEST(SimulatedRover, ReportsItsOwnDeadReckonedPoseNotTheTruth) {
                  .body_rad = 0,
                  .slip_probability = 0};
   for (const bool noisy : {true, false}) {
-    SimulatedRover rover(noisy ? config() : exact, options());
+    SimulatedRover rover(noisy ? simulator() : exact, options());
     link::CommandSigner signer(alice());
     for (int k = 0; k < 10; ++k) {
       const double dy = k % 2 ? -0.25 : 0.25;
@@ -210,7 +209,7 @@ TEST(SimulatedRover, ReportsItsOwnDeadReckonedPoseNotTheTruth) {
 // surface (to the striper's 0.5 mm noise plus the marching tolerance) in
 // front of the body.
 TEST(SimulatedRover, AcquireScanWithTheStriperSendsTheGroundAhead) {
-  SimulatedRover rover(config(), options());
+  SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
   const auto out =
       rover.handle(command(link::AcquireScan{link::ScanSensor::kLightStriper}, &signer), 1.0);
@@ -240,7 +239,7 @@ TEST(SimulatedRover, AcquireScanWithTheStriperSendsTheGroundAhead) {
 // The same exchange through the link: a console sends, the rover's thread
 // answers; heartbeats keep coming while the console waits.
 TEST(InProcessLink, CommandsGoOutAndTelemetryComesBack) {
-  InProcessLink link(config(), options(), std::chrono::milliseconds(20));
+  InProcessLink link(simulator(), options(), std::chrono::milliseconds(20));
   link::CommandSigner signer(alice());
   link.send(command(link::BodyMove{0.0, 0.2, 0.0, 0.0}, &signer));
   link.send(command(link::BodyMove{0.0, 0.2, 0.0, 0.0}, nullptr));
