@@ -18,10 +18,12 @@ namespace fs = std::filesystem;
 struct WalkArgs {
   int seed = 1;
   int steps = 25;
-  double radius = 0.0;  // 0: straight
-  std::string turn;     // left | right: point turn
+  std::string course = "obstacle";  // obstacle | traverse
+  double radius = 0.0;              // 0: straight
+  std::string turn;                 // left | right: point turn
   bool sequential = false;
   bool compare = false;
+  bool no_registration = false;
   double time_scale = 0.0;
   bool log = false;
   bool json = true;
@@ -34,6 +36,7 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
                       {"plan_ms", s.plan_ms},
                       {"planned_ahead", s.planned_ahead},
                       {"pose_error_m", s.pose_error_m},
+                      {"dead_reckoning_error_m", s.dead_reckoning_error_m},
                       {"event", s.event}};
   if (s.leg >= 0) j["foothold"] = {s.foothold.x(), s.foothold.y(), s.foothold.z()};
   return j;
@@ -50,6 +53,10 @@ nlohmann::json resultJson(const walk::WalkResult& r, bool concurrent, bool log) 
                         {"plan_ms_median", r.plan_ms_median},
                         {"pose_error_final_m", r.pose_error_final_m},
                         {"pose_error_max_m", r.pose_error_max_m},
+                        {"dead_reckoning_error_final_m", r.dead_reckoning_error_final_m},
+                        {"dead_reckoning_error_max_m", r.dead_reckoning_error_max_m},
+                        {"scans_registered", r.scans_registered},
+                        {"scans_not_registered", r.scans_not_registered},
                         {"slips", r.slips},
                         {"replans", r.replans},
                         {"wall_s", r.wall_s},
@@ -101,13 +108,20 @@ walk::WalkSetup readConfig(const WalkArgs& a) {
                              config_path(a.scanner_config, "config/rover-scanner.json"));
 }
 
+walk::WalkOptions onCourse(const std::string& course, std::uint64_t seed, int steps) {
+  if (course == "traverse") return walk::onLongTraverse(seed, steps);
+  walk::WalkOptions o;
+  o.course.seed = seed;
+  o.steps = steps;
+  return o;
+}
+
 void runWalk(const WalkArgs& a) {
   const auto config = readConfig(a);
-  walk::WalkOptions o;
-  o.seed = std::uint64_t(a.seed);
-  o.steps = a.steps;
+  walk::WalkOptions o = onCourse(a.course, std::uint64_t(a.seed), a.steps);
   o.concurrent = !a.sequential;
   o.time_scale = a.time_scale;
+  o.register_scans = !a.no_registration;
   if (!a.turn.empty())
     o.heading = {0.0, a.turn == "left"};
   else if (a.radius != 0.0)
@@ -132,34 +146,75 @@ void runWalk(const WalkArgs& a) {
 }
 
 struct EvalWalkArgs {
-  std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5};
-  int steps = 25;
-  bool json = true;  // the only output form
+  std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  int steps = 100;
+  std::string course = "traverse";
+  int repetitions = 5;  // of the concurrent-against-sequential comparison
+  bool json = true;     // the only output form
 };
 
-// Straight walks across the course, each planned concurrently and
-// sequentially (cmu-1990: concurrency saved over 30 % of the walking time).
+double percentOf(double error_m, double distance_m) {
+  return distance_m > 0 ? 100.0 * error_m / distance_m : 0.0;
+}
+
+nlohmann::json walkJson(std::uint64_t seed, const walk::WalkResult& r) {
+  nlohmann::json j = {
+      {"seed", seed},
+      {"steps", r.steps},
+      {"distance_m", r.distance_m},
+      {"csp_violations", r.csp_violations},
+      {"leg_collisions", r.leg_collisions},
+      {"min_stability_margin_m", r.min_stability_margin_m},
+      {"registered",
+       {{"final_m", r.pose_error_final_m},
+        {"max_m", r.pose_error_max_m},
+        {"final_pct_of_distance", percentOf(r.pose_error_final_m, r.distance_m)}}},
+      {"dead_reckoning",
+       {{"final_m", r.dead_reckoning_error_final_m},
+        {"max_m", r.dead_reckoning_error_max_m},
+        {"final_pct_of_distance", percentOf(r.dead_reckoning_error_final_m, r.distance_m)}}},
+      {"scans_registered", r.scans_registered},
+      {"scans_not_registered", r.scans_not_registered}};
+  if (!r.stopped.empty()) j["stopped"] = r.stopped;
+  return j;
+}
+
+// Long walks (cmu-1990's loop, as ambler-gs runs it): stability, and the
+// pose the ground places the rover at against the truth, with
+// registration and by the rover's dead reckoning alone; then the wall
+// time planning ahead saves, walk after walk.
 nlohmann::json evalWalk(const EvalWalkArgs& a) {
   const auto config = readConfig(WalkArgs{});
-  std::vector<double> distance, margin, pose_error, plan_ms, saving;
-  int violations = 0, collisions = 0, stopped = 0;
-  double concurrent_s = 0.0, sequential_s = 0.0, total_m = 0.0, moving_s = 0.0;
+  std::vector<double> distance, margin, pose_error, pose_pct, dr_error, dr_pct, plan_ms, saving;
+  int violations = 0, collisions = 0, stopped = 0, not_worse = 0;
+  double total_m = 0.0, moving_s = 0.0;
+  nlohmann::json walks = nlohmann::json::array();
   for (const auto seed : a.seeds) {
-    walk::WalkOptions o;
-    o.seed = seed;
-    o.steps = a.steps;
-    const auto c = compareModes(config, o);
-    const auto& r = c.concurrent;
+    const auto r = walk::runWalk(config, onCourse(a.course, seed, a.steps));
+    walks.push_back(walkJson(seed, r));
     distance.push_back(r.distance_m);
     margin.push_back(r.min_stability_margin_m);
     pose_error.push_back(r.pose_error_final_m);
+    pose_pct.push_back(percentOf(r.pose_error_final_m, r.distance_m));
+    dr_error.push_back(r.dead_reckoning_error_final_m);
+    dr_pct.push_back(percentOf(r.dead_reckoning_error_final_m, r.distance_m));
     plan_ms.push_back(r.plan_ms_median);
-    saving.push_back(100.0 * (1.0 - r.wall_s / c.sequential.wall_s));
+    not_worse += r.pose_error_final_m <= r.dead_reckoning_error_final_m;
     violations += r.csp_violations, collisions += r.leg_collisions, stopped += !r.stopped.empty();
-    concurrent_s += r.wall_s, sequential_s += c.sequential.wall_s;
     total_m += r.distance_m, moving_s += r.modelled_execution_s;
   }
-  return {{"walks", a.seeds.size()},
+  for (int k = 0; k < a.repetitions && !a.seeds.empty(); ++k) {
+    const auto seed = a.seeds[std::size_t(k) % a.seeds.size()];
+    const auto c = compareModes(config, onCourse(a.course, seed, a.steps));
+    saving.push_back(100.0 * (1.0 - c.concurrent.wall_s / c.sequential.wall_s));
+  }
+  const auto spread = [](std::vector<double> v) -> nlohmann::json {
+    if (v.empty()) return nullptr;
+    std::sort(v.begin(), v.end());
+    return {{"median", v[v.size() / 2]}, {"min", v.front()}, {"max", v.back()}, {"runs", v.size()}};
+  };
+  return {{"course", a.course},
+          {"walks", a.seeds.size()},
           {"steps_per_walk", a.steps},
           {"walks_stopped_early", stopped},
           {"distance_m", distribution(distance)},
@@ -167,10 +222,14 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
           {"csp_violations", violations},
           {"leg_collisions", collisions},
           {"pose_error_final_m", distribution(pose_error)},
+          {"pose_error_final_pct", distribution(pose_pct)},
+          {"dead_reckoning_error_final_m", distribution(dr_error)},
+          {"dead_reckoning_error_final_pct", distribution(dr_pct)},
+          {"walks_registration_not_worse", not_worse},
           {"plan_ms_median", distribution(plan_ms)},
-          {"wall_saving_pct", distribution(saving)},
-          {"wall_saving_pct_total", 100.0 * (1.0 - concurrent_s / sequential_s)},
-          {"speed_while_moving_m_per_min", moving_s > 0 ? 60.0 * total_m / moving_s : 0.0}};
+          {"wall_saving_pct", spread(saving)},
+          {"speed_while_moving_m_per_min", moving_s > 0 ? 60.0 * total_m / moving_s : 0.0},
+          {"per_walk", walks}};
 }
 
 }  // namespace
@@ -185,6 +244,11 @@ void addWalk(CLI::App& app) {
   cmd->add_option("--steps", args->steps, "steps (leg recovery + body move)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  cmd->add_option("--course", args->course,
+                  "obstacle: the cmu-1990 high-bay course, 50 m (box, trench, ramp, boulders, "
+                  "rocks); traverse: 90 m of its ground and rocks without box, trench and ramp")
+      ->check(CLI::IsMember({"obstacle", "traverse"}))
+      ->capture_default_str();
   auto* radius = cmd->add_option("--radius", args->radius,
                                  "follow an arc of this radius [m], positive turns left "
                                  "(default: straight)");
@@ -198,6 +262,9 @@ void addWalk(CLI::App& app) {
                 "also walk sequentially and print both, with the wall-time saving of planning "
                 "concurrently")
       ->excludes("--sequential");
+  cmd->add_flag("--no-registration", args->no_registration,
+                "map and plan where the rover's dead reckoning says it is (default: register "
+                "each scan against the map and correct the pose)");
   cmd->add_option("--time-scale", args->time_scale,
                   "wall seconds per simulated second of execution (default 0: no waiting; "
                   "with --compare, the Ambler's ratio of execution to ground work)")
@@ -223,13 +290,21 @@ void addEvalWalk(CLI::App& eval, Evaluations& all) {
   auto args = std::make_shared<EvalWalkArgs>();
   auto* cmd = eval.add_subcommand(
       "walk",
-      "Autonomous walks across simulated courses, planned concurrently and sequentially: "
-      "distance, stability, dead reckoning and the wall time concurrency saves");
-  cmd->add_option("--seeds", args->seeds, "course seeds, one walk each")
+      "Long autonomous walks as ambler-gs walks: distance, stability, pose error against "
+      "the truth with registration and by dead reckoning alone, and the wall time planning "
+      "ahead saves");
+  cmd->add_option("--seeds", args->seeds, "course seeds, one walk each (evaluation seeds 1-10)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--steps", args->steps, "steps per walk")
       ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--course", args->course, "obstacle or traverse (see walk --help)")
+      ->check(CLI::IsMember({"obstacle", "traverse"}))
+      ->capture_default_str();
+  cmd->add_option("--repetitions", args->repetitions,
+                  "concurrent-against-sequential comparisons, cycling through the seeds")
+      ->check(CLI::Range(0, 100))
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output form)");
   cmd->callback([args] { printJson(evalWalk(*args)); });

@@ -24,7 +24,7 @@ RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, s
   RoverConnection c;
   c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;
-  options.seed = seed;
+  options.course.seed = seed;
   options.operators = {c.key};
   c.link = std::make_unique<rover::InProcessLink>(config, options);
   c.mission = "ambler-gs walk on course " + std::to_string(seed);

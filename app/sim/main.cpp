@@ -34,7 +34,7 @@ void run(const Args& a) {
   const auto config = rover::readInstalledSimulatedRoverConfig();
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
-  options.seed = a.seed;
+  options.course.seed = a.seed;
   options.link_timeout_s = a.link_timeout_s;
   if (!a.keys.empty()) options.operators = link::readOperatorKeys(a.keys);
   rover::SimulatedRover rover(config, options);

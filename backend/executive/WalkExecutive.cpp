@@ -45,7 +45,8 @@ WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, Appr
       gate_(gate),
       ctx_(std::move(context)),
       opt_(std::move(options)),
-      map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)) {
+      map_(GridSpec::covering(opt_.map_extent, opt_.map_resolution_m)),
+      corrector_(opt_.pose_correction) {
   // Each task that ends goes to the log, for the replay's module timing.
   tasks_.onEnded([this](const Task& t) {
     if (!product_sink_) return;
@@ -141,7 +142,7 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
     report_.take(message);
     // The rover reports the body last.
     if (std::holds_alternative<link::BodyState>(message.body)) state_fresh_ = true;
-    if (auto stance = report_.stance(ctx_.model)) reported_ = stance;
+    if (auto stance = report_.stance(ctx_.model)) reported_ = correction().apply(*stance);
   } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
     onAck(*a, now_s);
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
@@ -193,12 +194,18 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the part of
 // the traverse map its returns fall in, fused into it.
+// A scan whose match disputes dead reckoning is left out until the matches
+// settle it: merged where the rover says it is, it would drag the map
+// along with a pose that may be wrong.
 void WalkExecutive::mapScan(const sensor::RangeImage& scan, double now_s) {
+  const bool merge = !opt_.register_scans || !correctPose(scan, now_s).disputed;
   const auto t0 = Clock::now();
-  const GridSpec window = terrain::mergeScan(map_, scan);
+  sensor::RangeImage placed = scan;
+  placed.sensor_to_world = correction().transform() * scan.sensor_to_world;
+  const GridSpec window = merge ? terrain::mergeScan(map_, placed) : GridSpec{};
   scanner_ = scan.geometry;
   work_.mapping_s += secondsSince(t0);
-  if (scan_sink_) scan_sink_(scan);
+  if (scan_sink_) scan_sink_(placed);
   if (product_sink_) {
     // The traverse map's grid (what a replay rebuilds) and the part merged.
     const GridSpec& g = map_.grid();
@@ -216,6 +223,43 @@ void WalkExecutive::mapScan(const sensor::RangeImage& scan, double now_s) {
                               {"window_rows", window.rows}};
     product_sink_(now_s, "elevation_map", p.dump());
   }
+}
+
+// The scan against the map so far: an accepted match becomes the
+// correction of everything the rover reports from now on.
+const ScanMatch& WalkExecutive::correctPose(const sensor::RangeImage& scan, double now_s) {
+  const auto t0 = Clock::now();
+  ScanMatch m = corrector_.correct(scan, map_);
+  work_.registering_s += secondsSince(t0);
+  if (m.accepted) {
+    if (auto stance = report_.stance(ctx_.model)) reported_ = correction().apply(*stance);
+  } else if (!matches_.empty()) {  // the first scan has no map to match
+    note(now_s, "scan not registered: " + m.refused +
+                    (m.disputed ? "; the scan is not merged" : "; dead reckoning carries on"));
+  }
+  if (product_sink_) {
+    const nlohmann::json p = {{"range_image_time_s", scan_time_s_},
+                              {"accepted", m.accepted},
+                              {"refused", m.refused},
+                              {"relocated", m.relocated},
+                              {"merged", !m.disputed},
+                              {"shift_x_m", correction().shift.x()},
+                              {"shift_y_m", correction().shift.y()},
+                              {"yaw_rad", correction().yaw_rad},
+                              {"dz_m", correction().dz_m},
+                              {"change_m", m.change_m},
+                              {"change_rad", m.change_rad},
+                              {"rms_m", m.rms_m},
+                              {"points", m.points},
+                              {"iterations", m.iterations},
+                              {"sigma_xy_m", m.sigma_xy_m},
+                              {"sigma_yaw_rad", m.sigma_yaw_rad},
+                              {"chi2", m.chi2},
+                              {"ms", m.ms}};
+    product_sink_(now_s, "pose_correction", p.dump());
+  }
+  matches_.push_back(std::move(m));
+  return matches_.back();
 }
 
 // The scanner looks along the body's forward axis (+y in the body frame).
@@ -388,7 +432,8 @@ void WalkExecutive::afterMove(double now_s) {
 
 void WalkExecutive::finishStep(double now_s) {
   tasks_.finish(step_task_, now_s);
-  step_.reported = reported_->body;
+  step_.estimated = reported_->body;
+  step_.reported = report_.stance(ctx_.model)->body;
   step_log_.push_back(step_);
   executing_.reset();
   ++steps_done_;

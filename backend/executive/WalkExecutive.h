@@ -21,6 +21,7 @@
 #include "core/Region.h"
 #include "executive/ApprovalGate.h"
 #include "executive/ReportedStance.h"
+#include "executive/ScanMatching.h"
 #include "executive/TaskTree.h"
 #include "link/Link.h"
 #include "link/Signing.h"
@@ -40,6 +41,10 @@ struct ExecutiveOptions {
   double early_contact_m = 0.05;  // a foot this far short of its last waypoint
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
+  // Register each scan against the traverse map and correct the rover's
+  // dead reckoning by it; off: map and plan where the rover says it is.
+  bool register_scans = true;
+  PoseCorrectorOptions pose_correction;
   // A GroundHeartbeat goes out when nothing else has for this long; keep it
   // well under the rover's link timeout.
   double heartbeat_period_s = 1.0;
@@ -70,12 +75,14 @@ struct StepRecord {
   bool replanned = false;      // its plan ahead was dropped: the rover ended off the prediction
   double plan_ms = 0.0;        // wall time of the plan it came from
   gait::BodyPose reported;     // where the rover reported its body after the step
+  gait::BodyPose estimated;    // where the ground placed it: the report, corrected
   std::string event;           // what went differently from the plan, if anything
 };
 
 // Wall time the ground spent on a walk's perception and planning: the work
 // the rover's execution can hide when planning ahead.
 struct GroundWork {
+  double registering_s = 0.0;
   double mapping_s = 0.0;
   double planning_s = 0.0;
 };
@@ -123,11 +130,16 @@ class WalkExecutive {
   int stepsPlannedAhead() const { return planned_ahead_; }
   const TaskTree& tasks() const { return tasks_; }
   const std::vector<ExecutiveEvent>& events() const { return events_; }
+  // The rover's reported stance placed on the map by the correction.
   const std::optional<gait::Stance>& reported() const { return reported_; }
   const RoverReport& report() const { return report_; }
   const terrain::ElevationMap& map() const { return map_; }
   const std::vector<StepRecord>& stepLog() const { return step_log_; }
   const GroundWork& groundWork() const { return work_; }
+  // The correction of the rover's dead reckoning in use, and each scan's
+  // match against the map, in order.
+  const PoseCorrection& correction() const { return corrector_.correction(); }
+  const std::vector<ScanMatch>& scanMatches() const { return matches_; }
   // Why the rover last said it holds; empty when it does not.
   const std::string& roverHolding() const { return rover_holding_; }
 
@@ -138,6 +150,7 @@ class WalkExecutive {
   void endHold(double now_s);
   void requestScan(double now_s);
   void mapScan(const sensor::RangeImage& scan, double now_s);
+  const ScanMatch& correctPose(const sensor::RangeImage& scan, double now_s);
   gait::StepPlan plan(const gait::Stance& from);
   std::optional<footfall::ScannerView> scannerView(const gait::Stance& from) const;
   void planAndPropose(double now_s);
@@ -173,7 +186,9 @@ class WalkExecutive {
   // Where the rover reports its legs and body; filled by the state
   // telemetry that follows every move.
   RoverReport report_;
-  std::optional<gait::Stance> reported_;
+  std::optional<gait::Stance> reported_;  // corrected
+  PoseCorrector corrector_;
+  std::vector<ScanMatch> matches_;
   // The step being carried out: its commands, the next to send, the one
   // awaiting its acknowledgement and since when.
   std::optional<StepProposal> executing_;

@@ -140,7 +140,11 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
   const double first = std::max({soleAt(0), start_z + o.clearance_m});
   // Straight up first: the controller does not move a leg horizontally
   // before lift-off (cmu-1990 'Real-time control').
-  plan.waypoints.push_back({start_q.rotation_rad, start_q.extension_m, stance.body.link_z - first});
+  // The reported extension can read past its limit by the encoder's noise
+  // where the leg really stands at it; the lift is commanded at the limit.
+  const double lift_extension =
+      std::clamp(start_q.extension_m, model.extension_min_m, model.extension_max_m);
+  plan.waypoints.push_back({start_q.rotation_rad, lift_extension, stance.body.link_z - first});
   double time = 0.0, energy = 0.0;
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const int c = cells[k];

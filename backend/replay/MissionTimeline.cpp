@@ -38,6 +38,36 @@ GridSpec mapGrid(const std::vector<missionlog::LoggedProduct>& products,
   return GridSpec::covering(defaults.map_extent, defaults.map_resolution_m);
 }
 
+// The correction the executive placed each scan with, by the scan's
+// telemetry time, and whether it merged the scan at all; scans without one
+// were mapped where the rover said.
+struct LoggedCorrection {
+  executive::PoseCorrection correction;
+  bool merged = true;
+};
+
+std::map<double, LoggedCorrection> loggedCorrections(
+    const std::vector<missionlog::LoggedProduct>& products, const std::filesystem::path& log) {
+  std::map<double, LoggedCorrection> out;
+  for (const auto& p : products) {
+    if (p.kind != "pose_correction") continue;
+    const std::string context =
+        log.string() + ": pose_correction at " + std::to_string(p.time_s) + " s";
+    nlohmann::json json;
+    try {
+      json = nlohmann::json::parse(p.parameters);
+    } catch (const nlohmann::json::exception& e) {
+      throw io::FormatError(context + ": " + e.what());
+    }
+    const io::JsonFields f(json, context);
+    const bool merged = !json.contains("merged") || json["merged"] != false;
+    out[f.number("range_image_time_s")] = {
+        {{f.number("shift_x_m"), f.number("shift_y_m")}, f.number("yaw_rad"), f.number("dz_m")},
+        merged};
+  }
+  return out;
+}
+
 executive::Task loggedTask(const missionlog::LoggedProduct& p, const std::filesystem::path& log) {
   const std::string context = log.string() + ": task at " + std::to_string(p.time_s) + " s";
   try {
@@ -100,13 +130,19 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
   for (const auto& p : products)
     if (p.kind == "task") t.tasks_.push_back(loggedTask(p, log));
 
-  // krotkov1989 §3 then cmu-1990 'LTM Merger', exactly as WalkExecutive.
+  // krotkov1989 §3 then cmu-1990 'LTM Merger', exactly as WalkExecutive,
+  // each scan placed by the correction the executive logged for it.
   terrain::ElevationMap map(mapGrid(products, log));
+  const auto corrections = loggedCorrections(products, log);
   const int total = int(scans.size());
   for (int i = 0; i < total; ++i) {
     if (progress && !progress(i, total)) throw Cancelled();
-    const auto& image = std::get<sensor::RangeImage>(scans[std::size_t(i)].message.body);
-    terrain::mergeScan(map, image);
+    const auto& scan = scans[std::size_t(i)].message;
+    sensor::RangeImage image = std::get<sensor::RangeImage>(scan.body);
+    const auto c = corrections.find(scan.time_s);
+    if (c != corrections.end())
+      image.sensor_to_world = c->second.correction.transform() * image.sensor_to_world;
+    if (c == corrections.end() || c->second.merged) terrain::mergeScan(map, image);
     t.maps_.push_back({scans[std::size_t(i)].time_s, map});
     t.marks_.push_back(scans[std::size_t(i)].time_s);
   }

@@ -32,7 +32,7 @@ SimulatedRoverConfig readInstalledSimulatedRoverConfig() {
 SimulatedRover::SimulatedRover(const SimulatedRoverConfig& config, SimulatedRoverOptions options)
     : config_(config),
       options_(std::move(options)),
-      world_(options_.seed, config.model, config.gait, config.noise, config.scanner,
+      world_(options_.course, config.model, config.gait, config.noise, config.scanner,
              options_.scanned_area),
       odometry_(config.model, world_.rover().truth()),
       verifier_(options_.rover_id, options_.operators) {}

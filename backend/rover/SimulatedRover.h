@@ -37,7 +37,7 @@ SimulatedRoverConfig readInstalledSimulatedRoverConfig();
 
 struct SimulatedRoverOptions {
   std::uint32_t rover_id = 1;
-  std::uint64_t seed = 1;  // obstacle course and execution noise
+  sim::CourseOptions course;  // its seed also draws the execution noise
   std::vector<link::OperatorKey> operators;
   Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
   // Hold on its own when no signed command (a GroundHeartbeat at least)

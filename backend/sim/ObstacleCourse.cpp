@@ -90,6 +90,16 @@ TerrainDescription makeObstacleCourse(const CourseOptions& options) {
   return d;
 }
 
+CourseOptions longTraverse(std::uint64_t seed) {
+  CourseOptions o;
+  o.seed = seed;
+  o.extent = {-20.0, -10.0, 20.0, 80.0};
+  o.boulders = 12;  // 1.5 times the course's area
+  o.rocks = 180;
+  o.obstacles = false;
+  return o;
+}
+
 TerrainDescription makeWorkArea(const WorkAreaOptions& options) {
   Draw draw(options.seed);
   TerrainDescription d;

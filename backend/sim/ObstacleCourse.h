@@ -19,6 +19,12 @@ struct CourseOptions {
 };
 TerrainDescription makeObstacleCourse(const CourseOptions& options);
 
+// A traverse for walks of a hundred steps and more: the course's rolling
+// ground, boulders and rocks at the course's density, 90 m long, without
+// the box, trench and ramp (which the gait planner does not yet cross on
+// every seed).
+CourseOptions longTraverse(std::uint64_t seed);
+
 // The rock-sampling work area of the cmu-1990 sampling paper: a sand tray
 // with small ripples and superquadric rocks in it, each with a share of its
 // height (2 a3) below the sand drawn from [burial_min, burial_max]; by

@@ -56,7 +56,9 @@ ExecutionNoise readExecutionNoise(const std::filesystem::path& path) {
                  {"body_m", &n.body_m, 0.5},
                  {"body_rad", &n.body_rad, 0.5},
                  {"slip_probability", &n.slip_probability, 1.0},
-                 {"slip_m", &n.slip_m, 1.0}};
+                 {"slip_m", &n.slip_m, 1.0},
+                 {"ground_creep_m", &n.ground_creep_m, 0.5},
+                 {"ground_creep_rad", &n.ground_creep_rad, 0.5}};
   for (const auto& k : numbers) {
     if (!f.has(k.key)) continue;
     *k.value = f.number(k.key);
@@ -170,6 +172,22 @@ MoveReport RoverSim::executeLeg(const LegMove& move) {
   return report;
 }
 
+void RoverSim::creep(double distance_m) {
+  if (noise_.ground_creep_m == 0.0 && noise_.ground_creep_rad == 0.0) return;
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Eigen::Vector2d shift =
+      noise_.ground_creep_m * distance_m * Eigen::Vector2d(unit(rng_), unit(rng_));
+  const double twist = noise_.ground_creep_rad * distance_m * unit(rng_);
+  const Eigen::Rotation2Dd turn(twist);
+  const Eigen::Vector2d centre = truth_.body.xy;
+  for (auto& foot : truth_.feet) {
+    foot.head<2>() = centre + shift + turn * (Eigen::Vector2d(foot.head<2>()) - centre);
+    foot.z() = soleClearanceNeeded(foot.head<2>());
+  }
+  truth_.body.xy = centre + shift;
+  truth_.body.heading_rad += twist;
+}
+
 MoveReport RoverSim::executeBody(const BodyMove& move) {
   if (!move.translation.allFinite() || !std::isfinite(move.rotation_rad) ||
       !std::isfinite(move.raise_m))
@@ -197,6 +215,7 @@ MoveReport RoverSim::executeBody(const BodyMove& move) {
       if (truth_.supporting[std::size_t(i)] && !model_.withinLimits(truth_.joints(model_, i)))
         report.event = "kinematic limit";
   }
+  creep(distance);
   std::uniform_real_distribution<double> chance(0.0, 1.0), angle(0.0, 2 * M_PI);
   for (auto& foot : truth_.feet) {
     if (chance(rng_) >= noise_.slip_probability) continue;

@@ -24,6 +24,11 @@ struct ExecutionNoise {
   double body_rad = 0.002;         // heading error, per body move
   double slip_probability = 0.03;  // per supporting foot and body move
   double slip_m = 0.05;            // a slipped foot slides this far
+  // The ground giving under the whole stance (loose soil): body and feet
+  // slide together, which the legs cannot sense, so dead reckoning drifts
+  // by it. Standard deviations per metre of body travel.
+  double ground_creep_m = 0.02;     // along each horizontal axis
+  double ground_creep_rad = 0.002;  // about the vertical, around the body
   std::uint64_t seed = 1;
 };
 
@@ -87,6 +92,7 @@ class RoverSim {
  private:
   double soleClearanceNeeded(const Eigen::Vector2d& xy) const;
   void record(double* min_margin, int lifted = -1);
+  void creep(double distance_m);
 
   const Terrain& terrain_;
   gait::RoverModel model_;

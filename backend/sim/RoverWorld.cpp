@@ -24,16 +24,16 @@ ExecutionNoise seeded(ExecutionNoise n, std::uint64_t seed) {
 
 }  // namespace
 
-RoverWorld::RoverWorld(std::uint64_t seed, const gait::RoverModel& model,
+RoverWorld::RoverWorld(const CourseOptions& course, const gait::RoverModel& model,
                        const gait::GaitOptions& gait, ExecutionNoise noise, ScannerModel scanner,
                        const Box2& scanned_area)
-    : seed_(seed),
+    : seed_(course.seed),
       model_(model),
       scanner_(std::move(scanner)),
-      terrain_(makeObstacleCourse({.seed = seed})),
+      terrain_(makeObstacleCourse(course)),
       seen_(sampledCourse(terrain_, scanned_area)),
       caster_(seen_, {.cell_size = 0.25, .step = 0.1, .tolerance = 1e-3}),
-      rover_(terrain_, model, seeded(noise, seed),
+      rover_(terrain_, model, seeded(noise, course.seed),
              settleOnTerrain(gait::nominalStance({}, model, gait), terrain_, model)) {}
 
 sensor::RangeImage RoverWorld::scan(std::uint64_t index) const {

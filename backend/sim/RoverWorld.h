@@ -10,6 +10,7 @@
 #include "core/GridSpec.h"
 #include "gait/GaitPlanner.h"
 #include "sim/HeightfieldTerrain.h"
+#include "sim/ObstacleCourse.h"
 #include "sim/ProceduralTerrain.h"
 #include "sim/RayCaster.h"
 #include "sim/RoverSim.h"
@@ -20,11 +21,12 @@ namespace ambler::sim {
 
 class RoverWorld {
  public:
-  // The course of `seed`, the rover standing in its nominal stance at the
-  // start; `scanned_area` is where scans need the terrain (the scanner's
-  // reach beyond it is added).
-  RoverWorld(std::uint64_t seed, const gait::RoverModel& model, const gait::GaitOptions& gait,
-             ExecutionNoise noise, ScannerModel scanner, const Box2& scanned_area);
+  // The course, the rover standing in its nominal stance at the start; the
+  // course's seed also draws the execution noise; `scanned_area` is where
+  // scans need the terrain (the scanner's reach beyond it is added).
+  RoverWorld(const CourseOptions& course, const gait::RoverModel& model,
+             const gait::GaitOptions& gait, ExecutionNoise noise, ScannerModel scanner,
+             const Box2& scanned_area);
   RoverWorld(const RoverWorld&) = delete;
   RoverWorld& operator=(const RoverWorld&) = delete;
 

@@ -122,15 +122,23 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   std::vector<double> plan_ms;
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const auto& s = steps[k];
-    WalkStep w{s.leg, s.foothold, s.body_u, s.plan_ms, s.planned_ahead, 0.0, s.event};
-    if (k < truth.after_body_moves.size())
-      w.pose_error_m = (s.reported.xy - truth.after_body_moves[k].xy).norm();
+    WalkStep w{s.leg, s.foothold, s.body_u, s.plan_ms, s.planned_ahead, 0.0, 0.0, s.event};
+    if (k < truth.after_body_moves.size()) {
+      w.pose_error_m = (s.estimated.xy - truth.after_body_moves[k].xy).norm();
+      w.dead_reckoning_error_m = (s.reported.xy - truth.after_body_moves[k].xy).norm();
+    }
     r.pose_error_max_m = std::max(r.pose_error_max_m, w.pose_error_m);
+    r.dead_reckoning_error_max_m = std::max(r.dead_reckoning_error_max_m, w.dead_reckoning_error_m);
     if (s.replanned) ++r.replans;
     plan_ms.push_back(s.plan_ms);
     r.log.push_back(std::move(w));
   }
-  if (!r.log.empty()) r.pose_error_final_m = r.log.back().pose_error_m;
+  if (!r.log.empty()) {
+    r.pose_error_final_m = r.log.back().pose_error_m;
+    r.dead_reckoning_error_final_m = r.log.back().dead_reckoning_error_m;
+  }
+  for (const auto& m : e.scanMatches())
+    ++(m.accepted ? r.scans_registered : r.scans_not_registered);
   r.plan_ms_median = median(plan_ms);
   if (truth.start) r.distance_m = (truth.now.xy - truth.start->xy).norm();
   r.heading_change_deg = truth.now.heading_rad * 180.0 / M_PI;  // started at 0
@@ -140,7 +148,8 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   r.leg_collisions = truth.collisions;
   r.slips = truth.slips;
   r.modelled_execution_s = truth.busy_s;
-  r.ground_busy_s = e.groundWork().mapping_s + e.groundWork().planning_s;
+  const auto& work = e.groundWork();
+  r.ground_busy_s = work.registering_s + work.mapping_s + work.planning_s;
 }
 
 }  // namespace
@@ -150,7 +159,7 @@ WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options) {
   std::mutex truth_mutex;
   TruthTally truth;
   rover::SimulatedRoverOptions rover_options;
-  rover_options.seed = options.seed;
+  rover_options.course = options.course;
   rover_options.operators = {walkKey()};
   rover_options.scanned_area = options.map_extent;
   rover_options.time_scale = options.time_scale;
@@ -168,6 +177,7 @@ WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options) {
   exec_options.plan_ahead = options.concurrent;
   exec_options.map_extent = options.map_extent;
   exec_options.map_resolution_m = options.map_resolution_m;
+  exec_options.register_scans = options.register_scans;
   executive::WalkExecutive executive(link, signer, gate, setup.ground, exec_options);
 
   const auto t0 = Clock::now();
@@ -182,6 +192,14 @@ WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options) {
   const std::lock_guard lock(truth_mutex);
   score(result, executive, truth);
   return result;
+}
+
+WalkOptions onLongTraverse(std::uint64_t seed, int steps) {
+  WalkOptions o;
+  o.course = sim::longTraverse(seed);
+  o.steps = steps;
+  o.map_extent = {-10.0, -8.0, 10.0, o.course.extent.y_max - 5.0};
+  return o;
 }
 
 double timeScaleOfTheReport(const WalkResult& probe) {

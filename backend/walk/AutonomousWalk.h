@@ -31,7 +31,7 @@ WalkSetup readWalkSetup(const std::filesystem::path& rover_json,
 WalkSetup readInstalledWalkSetup();
 
 struct WalkOptions {
-  std::uint64_t seed = 1;  // obstacle course and execution noise
+  sim::CourseOptions course;  // its seed also draws the execution noise
   int steps = 25;
   gait::Heading heading;  // straight ahead by default
   // Plan the next step while the current one executes (cmu-1990 TCA), or
@@ -41,8 +41,13 @@ struct WalkOptions {
   // takes this long to answer a move or a scan (0: at once).
   double time_scale = 0.0;
   double map_resolution_m = 0.1;  // the report's cost maps are on a 10 cm grid
+  bool register_scans = true;     // off: the ground trusts the rover's dead reckoning
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
 };
+
+// The options of a walk on sim::longTraverse(seed): the map reaches to
+// the traverse's far end.
+WalkOptions onLongTraverse(std::uint64_t seed, int steps);
 
 struct WalkStep {
   int leg = -1;
@@ -50,7 +55,11 @@ struct WalkStep {
   double body_u = 0.0;
   double plan_ms = 0.0;
   bool planned_ahead = false;
-  double pose_error_m = 0.0;  // the body's reported position against the truth after the step
+  // The body's position after the step against the truth: where the ground
+  // placed it (the rover's report, corrected by registration) and where the
+  // rover's dead reckoning alone put it.
+  double pose_error_m = 0.0;
+  double dead_reckoning_error_m = 0.0;
   std::string event;
 };
 
@@ -66,22 +75,28 @@ struct WalkResult {
   int csp_violations = 0;  // trace samples with the true CoG outside the true CSP
   int leg_collisions = 0;
   double plan_ms_median = 0.0;
-  // The rover's reported (dead-reckoned) body position against the truth.
+  // The ground's estimate of the body position against the truth, at the
+  // end and the worst along the walk; the same for the rover's dead
+  // reckoning alone (equal when registration is off).
   double pose_error_final_m = 0.0;
   double pose_error_max_m = 0.0;
-  int slips = 0;  // feet the simulator slipped
+  double dead_reckoning_error_final_m = 0.0;
+  double dead_reckoning_error_max_m = 0.0;
+  int scans_registered = 0;
+  int scans_not_registered = 0;  // refused, the first scan included
+  int slips = 0;                 // feet the simulator slipped
   int replans =
       0;  // steps planned afresh: the rover ended off its prediction, or a leg stopped early
   double wall_s = 0.0;
-  double ground_busy_s = 0.0;         // mapping and planning, wall time
+  double ground_busy_s = 0.0;         // registration, mapping and planning, wall time
   double modelled_execution_s = 0.0;  // the rover's moves and scans, simulated time
   std::string stopped;                // why the walk ended early, empty when it did not
   std::vector<WalkStep> log;
 };
 
-// cmu-1990: scan -> map (locus) -> merge -> footfall cost maps -> gait plan
-// -> leg recovery -> execute, on the obstacle course of `options.seed`,
-// `options.steps` times.
+// cmu-1990: scan -> register against the map -> map (locus) -> merge ->
+// footfall cost maps -> gait plan -> leg recovery -> execute, on
+// `options.course`, `options.steps` times.
 WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options);
 
 // The time_scale that makes a walk's execution take 0.75 of its ground work,

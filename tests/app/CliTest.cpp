@@ -471,8 +471,12 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
   const auto j = nlohmann::json::parse(run.out);
   for (const char* key :
        {"steps", "distance_m", "min_stability_margin_m", "csp_violations", "leg_collisions",
-        "plan_ms_median", "pose_error_final_m", "pose_error_max_m"})
+        "plan_ms_median", "pose_error_final_m", "pose_error_max_m", "dead_reckoning_error_final_m",
+        "dead_reckoning_error_max_m", "scans_registered"})
     EXPECT_TRUE(j.contains(key)) << key;
+  // The first scan has no map to be matched against.
+  EXPECT_EQ(j["scans_registered"].get<int>() + j["scans_not_registered"].get<int>(), 6);
+  EXPECT_GE(j["scans_not_registered"].get<int>(), 1);
   EXPECT_EQ(j["steps"], 6);
   EXPECT_EQ(j["csp_violations"], 0);
   EXPECT_GT(j["distance_m"].get<double>(), 1.0);
@@ -487,15 +491,26 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
 }
 
 TEST(Cli, EvalWalkComparesConcurrentAndSequentialPlanning) {
-  const auto run = runCli("eval walk --seeds 3 --steps 5 --json");
+  const auto run = runCli("eval walk --seeds 3,4 --steps 5 --repetitions 3 --json");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
-  EXPECT_EQ(j["walks"], 1);
+  EXPECT_EQ(j["walks"], 2);
+  EXPECT_EQ(j["course"], "traverse");
   EXPECT_EQ(j["csp_violations"], 0);
   EXPECT_EQ(j["leg_collisions"], 0);
   EXPECT_GT(j["distance_m"]["median"].get<double>(), 1.0);
   EXPECT_LT(j["pose_error_final_m"]["max"].get<double>(), 0.05);
-  EXPECT_TRUE(j["wall_saving_pct_total"].is_number());
+  ASSERT_EQ(j["per_walk"].size(), 2u);
+  for (const auto& w : j["per_walk"]) {
+    EXPECT_EQ(w["steps"], 5);
+    EXPECT_GE(w["registered"]["max_m"].get<double>(), w["registered"]["final_m"].get<double>());
+    EXPECT_GE(w["dead_reckoning"]["max_m"].get<double>(),
+              w["dead_reckoning"]["final_m"].get<double>());
+    EXPECT_GT(w["scans_registered"].get<int>(), 0);
+  }
+  EXPECT_EQ(j["wall_saving_pct"]["runs"], 3);
+  EXPECT_LE(j["wall_saving_pct"]["min"].get<double>(),
+            j["wall_saving_pct"]["median"].get<double>());
   EXPECT_GT(j["speed_while_moving_m_per_min"].get<double>(), 0.0);
 }
 

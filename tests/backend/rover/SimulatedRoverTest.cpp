@@ -178,7 +178,9 @@ TEST(SimulatedRover, ReportsItsOwnDeadReckonedPoseNotTheTruth) {
                  .placement_m = 0,
                  .body_m = 0,
                  .body_rad = 0,
-                 .slip_probability = 0};
+                 .slip_probability = 0,
+                 .ground_creep_m = 0,
+                 .ground_creep_rad = 0};
   for (const bool noisy : {true, false}) {
     SimulatedRover rover(noisy ? simulator() : exact, options());
     link::CommandSigner signer(alice());

@@ -31,6 +31,7 @@ ExecutionNoise noNoise() {
   ExecutionNoise n;
   n.encoder_rotation_rad = n.encoder_extension_m = n.encoder_vertical_m = 0;
   n.placement_m = n.body_m = n.body_rad = n.slip_probability = 0;
+  n.ground_creep_m = n.ground_creep_rad = 0;
   return n;
 }
 
