@@ -50,14 +50,20 @@ InterlockCheck stability(const gait::StepPlan& plan, const gait::Stance& from,
   auto consider = [&](double value, const std::string& phase) {
     if (value < lowest) lowest = value, when = phase;
   };
-  if (plan.leg >= 0) consider(gait::marginWithout(from, m, plan.leg), "while the leg is lifted");
   const auto placed = gait::checkStance(plan.after_leg, m, margin);
   const auto moved = gait::checkStance(plan.after, m, margin);
-  consider(placed.csp_margin_m, "after the foot is placed");
+  if (plan.leg >= 0) {
+    consider(gait::marginWithout(from, m, plan.leg), "while the leg is lifted");
+    consider(placed.csp_margin_m, "after the foot is placed");
+  } else {
+    consider(gait::marginWithout(from, m, -1), "before the body move");
+  }
   consider(moved.csp_margin_m, "after the body move");
   const std::string detail =
       "least CSP margin " + metres(lowest) + " " + when + " (limit " + metres(margin) + ")";
-  if (!placed.ok() && placed.violated != gait::Constraint::kConservativeSupport)
+  // Without a leg move nothing is placed: the body move is what takes a
+  // stance the rover reports just beyond a limit (a slipped foot) back in.
+  if (plan.leg >= 0 && !placed.ok() && placed.violated != gait::Constraint::kConservativeSupport)
     return {"stability", false,
             gait::constraintName(placed.violated) + " after the foot is placed; " + detail};
   if (!moved.ok() && moved.violated != gait::Constraint::kConservativeSupport)

@@ -17,6 +17,10 @@ Eigen::Isometry3d PoseCorrection::transform() const {
   return t;
 }
 
+PoseCorrection PoseCorrection::inverse() const {
+  return {-(Eigen::Rotation2Dd(-yaw_rad) * shift), -yaw_rad, -dz_m};
+}
+
 gait::BodyPose PoseCorrection::apply(gait::BodyPose body) const {
   body.xy = Eigen::Rotation2Dd(yaw_rad) * body.xy + shift;
   body.heading_rad += yaw_rad;

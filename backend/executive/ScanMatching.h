@@ -27,6 +27,7 @@ struct PoseCorrection {
   double dz_m = 0.0;
 
   Eigen::Isometry3d transform() const;
+  PoseCorrection inverse() const;
   gait::BodyPose apply(gait::BodyPose body) const;
   gait::Stance apply(gait::Stance stance) const;
 };

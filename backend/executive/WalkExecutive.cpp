@@ -279,13 +279,43 @@ gait::StepPlan WalkExecutive::plan(const gait::Stance& from) {
   return p;
 }
 
+namespace {
+
+// A plan made in the map frame before the correction changed, in the frame
+// the correction now gives.
+void reexpress(gait::StepPlan& plan, const PoseCorrection& before, const PoseCorrection& now) {
+  const Eigen::Isometry3d change = now.transform() * before.inverse().transform();
+  const PoseCorrection step{change.translation().head<2>(),
+                            std::atan2(change.linear()(1, 0), change.linear()(0, 0)),
+                            change.translation().z()};
+  plan.foothold = change * plan.foothold;
+  plan.after_leg = step.apply(plan.after_leg);
+  plan.after = step.apply(plan.after);
+  for (auto& pose : plan.body_path) pose = step.apply(pose);
+}
+
+}  // namespace
+
+// cmu-1990 TCA: on auto-approve, a step planned ahead that passes its
+// interlocks goes out at once and its scan is registered and merged while
+// the rover executes it; an operator who decides sees the newest scan
+// merged first. A plan ahead that fails an interlock is dropped and the
+// step planned afresh on the newest map.
 void WalkExecutive::planAndPropose(double now_s) {
-  mapScan(*scan_, now_s);
+  const bool had_ahead = ahead_.has_value();
+  std::optional<gait::StepPlan> ahead = takeAhead();
+  if (ahead && !passesInterlocks(*ahead, now_s)) ahead.reset();
+  if (ahead && gate_.mode() == ApprovalMode::kAutoApprove) {
+    unmapped_ = std::move(scan_);
+  } else {
+    const PoseCorrection before = correction();
+    mapScan(*scan_, now_s);
+    if (ahead) reexpress(*ahead, before, correction());
+    if (ahead && !passesInterlocks(*ahead, now_s)) ahead.reset();
+  }
   scan_.reset();
   plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
   tasks_.start(plan_task_, now_s);
-  const bool had_ahead = ahead_.has_value();
-  std::optional<gait::StepPlan> ahead = takeAhead();
   if (ahead) {
     ++planned_ahead_;
     note(now_s, "step " + std::to_string(steps_done_ + 1) +
@@ -317,8 +347,18 @@ void WalkExecutive::planAndPropose(double now_s) {
   gate_.propose(makeProposal(next_proposal_++, *reported_, std::move(plan), map_, ctx_), now_s);
 }
 
-// Runs right after the step's first command has gone: the rover executes
-// while the ground plans.
+// While the step's first command executes: the scan its plan went out
+// ahead of is registered and merged, and the step re-expressed in the
+// frame that scan's match gives.
+void WalkExecutive::mapDeferredScan(double now_s) {
+  if (!unmapped_) return;
+  const PoseCorrection before = correction();
+  mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
+  reexpress(executing_->plan, before, correction());
+}
+
+// While the step's last command executes: the next step, planned from the
+// stance this one should end in.
 void WalkExecutive::planAhead(double now_s) {
   ahead_.reset();
   if (!opt_.plan_ahead || steps_done_ + 1 >= opt_.steps) return;
@@ -335,6 +375,16 @@ void WalkExecutive::planAhead(double now_s) {
   }
   tasks_.finish(task, now_s);
   ahead_ = std::move(plan);
+}
+
+// The plan ahead passes every interlock from the reported stance on the map
+// as it stands; if not, the log says which.
+bool WalkExecutive::passesInterlocks(const gait::StepPlan& ahead, double now_s) {
+  const auto failure = makeProposal(0, *reported_, ahead, map_, ctx_).interlocks.firstFailure();
+  if (failure.empty()) return true;
+  note(now_s, "step " + std::to_string(steps_done_ + 1) + ": the plan made ahead fails " + failure +
+                  "; planning afresh");
+  return false;
 }
 
 // The plan ahead if the rover ended close enough to its prediction for the
@@ -378,7 +428,8 @@ void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
   next_command_ = 0;
   phase_ = Phase::kExecuting;
   sendNext(now_s);
-  planAhead(now_s);
+  mapDeferredScan(now_s);
+  if (executing_->commands.size() == 1) planAhead(now_s);
 }
 
 void WalkExecutive::sendNext(double now_s) {
@@ -424,10 +475,12 @@ void WalkExecutive::afterMove(double now_s) {
       step_.event += (step_.event.empty() ? "" : "; ") + ("body " + metres(off) + " off its plan");
     }
   }
-  if (next_command_ < executing_->commands.size())
-    sendNext(now_s);
-  else
+  if (next_command_ == executing_->commands.size()) {
     finishStep(now_s);
+    return;
+  }
+  sendNext(now_s);
+  if (next_command_ == executing_->commands.size()) planAhead(now_s);
 }
 
 void WalkExecutive::finishStep(double now_s) {

@@ -154,8 +154,10 @@ class WalkExecutive {
   gait::StepPlan plan(const gait::Stance& from);
   std::optional<footfall::ScannerView> scannerView(const gait::Stance& from) const;
   void planAndPropose(double now_s);
+  void mapDeferredScan(double now_s);
   void planAhead(double now_s);
   std::optional<gait::StepPlan> takeAhead();
+  bool passesInterlocks(const gait::StepPlan& ahead, double now_s);
   void startExecuting(StepProposal proposal, double now_s);
   void sendNext(double now_s);
   void afterMove(double now_s);
@@ -200,6 +202,7 @@ class WalkExecutive {
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
+  std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<sensor::ScanGeometry> scanner_;  // of the scans mapped so far
   double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;

@@ -346,19 +346,35 @@ void preferOpenFutures(std::vector<LegCandidate>& ranked, const Stance& stance,
 
 // When no leg may lift and moving along the heading does not help (a point
 // turn rotates the feet about the centre of gravity, leaving every margin
-// as it was), the shortest straight body shift that frees a leg.
-std::optional<Stance> shiftToFreeALeg(const Stance& stance, const GaitContext& ctx) {
+// as it was), the shortest straight body shift after which a leg may lift
+// and has a foothold to go to; a shift that frees a leg with nowhere to go
+// only leads to the next shift.
+std::optional<Stance> shiftToFreeALeg(const Stance& stance, const Heading& heading,
+                                      const terrain::ElevationMap& map, const GaitContext& ctx) {
   const auto& g = ctx.gait;
+  const auto& m = ctx.model;
+  // A foot reported beyond its leg's reach is brought back by moving toward
+  // it: on the way, the reach may be exceeded, but less and less.
+  auto passable = [&, excess = reachExcess(stance, m)](const Stance& s, double& left) {
+    const StanceCheck c = checkStance(s, m, g.csp_margin_m);
+    if (c.ok()) return true;
+    const double now = reachExcess(s, m);
+    if (c.violated != Constraint::kKinematic || !(now < left) || now >= excess) return false;
+    left = now;
+    return marginWithout(s, m, -1) >= g.csp_margin_m;
+  };
   for (double distance = g.body_step_m; distance <= 0.6 + 1e-9; distance += g.body_step_m)
     for (int k = 0; k < 16; ++k) {
       const Eigen::Vector2d dir(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
       bool clear = true;
+      double left = INFINITY;
       Stance moved = stance;
       for (double t = g.body_step_m; clear && t <= distance + 1e-9; t += g.body_step_m) {
         moved.body.xy = stance.body.xy + std::min(t, distance) * dir;
-        clear = checkStance(moved, ctx.model, g.csp_margin_m).ok();
+        clear = passable(moved, left);
       }
-      if (clear && !liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m).empty())
+      if (clear && !liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m).empty() &&
+          !rankedCandidates(moved, heading, map, ctx, {}, 2.0).empty())
         return moved;
     }
   return std::nullopt;
@@ -393,7 +409,7 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   const double u = move.u;
   const Constraint stopped = move.stopped_by;
   if (u < ctx.gait.body_step_m && plan.leg < 0) {
-    if (auto shifted = shiftToFreeALeg(stance, ctx)) {
+    if (auto shifted = shiftToFreeALeg(stance, heading, map, ctx)) {
       plan.after = *shifted;
       plan.body_path = {stance.body, shifted->body};
       plan.reason = "body shifted to free a leg";

@@ -76,6 +76,10 @@ struct StanceCheck {
 // of gravity against the conservative support polygon with `csp_margin`.
 StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin);
 
+// How far the supporting feet are beyond their legs' extension and vertical
+// limits, summed (0 within them): a slipped foot can leave one out of reach.
+double reachExcess(const Stance& stance, const RoverModel& model);
+
 // CSP margin of the stance with `leg` lifted (the other legs as they are).
 double marginWithout(const Stance& stance, const RoverModel& model, int leg);
 

@@ -150,6 +150,7 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   r.modelled_execution_s = truth.busy_s;
   const auto& work = e.groundWork();
   r.ground_busy_s = work.registering_s + work.mapping_s + work.planning_s;
+  r.ground_work = work;
 }
 
 }  // namespace

@@ -19,7 +19,8 @@ link::OperatorKey bob() { return {"bob", std::vector<std::uint8_t>(32, 8)}; }
 // The in-process simulator, counting what the console sends.
 class CountingLink : public link::Link {
  public:
-  CountingLink() : inner_(simulator(), options(), 200ms) {}
+  explicit CountingLink(const rover::SimulatedRoverConfig& rover = simulator())
+      : inner_(rover, options(), 200ms) {}
   void send(const link::Command& c) override {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
@@ -51,8 +52,9 @@ struct Console {
   WalkExecutive executive;
   double now = 0.0;
 
-  explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = ground())
-      : executive(link, signer, gate, std::move(ctx), o) {}
+  explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = ground(),
+                   const rover::SimulatedRoverConfig& rover = simulator())
+      : link(rover), executive(link, signer, gate, std::move(ctx), o) {}
 
   // Polls until `done` or the rover has had 200 polls to answer.
   template <typename F>
@@ -81,6 +83,47 @@ TEST(Executive, APlannedStepPassesEveryInterlock) {
   ASSERT_EQ(report.checks.size(), 5u);
   for (const auto& check : report.checks) EXPECT_FALSE(check.detail.empty()) << check.name;
   EXPECT_EQ(c.link.sent, std::vector<std::string>{"AcquireScan"});
+}
+
+// A supporting foot reported 5 mm beyond the leg's reach (a slip) fails
+// any step that places another foot, but a body move that brings it back
+// within reach passes: nothing is placed before the body moves.
+TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const StepProposal& planned = *c.gate.pending();
+  const auto& model = ground().model;
+  const int far = 1;
+  const std::size_t k = std::size_t(far);
+  gait::Stance from = planned.from;
+  const Eigen::Vector2d in_body = from.body.toBody(Eigen::Vector2d(from.feet[k].head<2>()));
+  const Eigen::Vector2d out = (in_body - model.shaftOf(far)).normalized();
+  const Eigen::Vector2d beyond = model.shaftOf(far) + (model.extension_max_m + 0.005) * out;
+  from.feet[k].head<2>() = from.body.toWorld(beyond);
+
+  // Another leg lifted and set down where it stood.
+  gait::StepPlan leg_move = planned.plan;
+  leg_move.leg = 4;
+  leg_move.foothold = from.feet[4];
+  leg_move.after_leg = leg_move.after = from;
+  leg_move.body_path = {from.body};
+  const auto refused = makeProposal(1, from, leg_move, c.executive.map(), ground());
+  ASSERT_EQ(refused.interlocks.checks[3].name, "stability");
+  EXPECT_NE(refused.interlocks.checks[3].detail.find("kinematic limits after the foot is placed"),
+            std::string::npos)
+      << refused.interlocks.checks[3].detail;
+
+  gait::StepPlan body_move = planned.plan;
+  body_move.leg = -1;
+  body_move.after_leg = from;
+  body_move.after = from;
+  body_move.after.body.xy += from.body.rotation() * (0.02 * out);
+  body_move.body_path = {from.body, body_move.after.body};
+  const auto passed = makeProposal(2, from, body_move, c.executive.map(), ground());
+  const auto& stability = passed.interlocks.checks[3];
+  ASSERT_EQ(stability.name, "stability");
+  EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
 TEST(Executive, ARejectedStepSendsNothing) {
@@ -164,8 +207,16 @@ TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
   EXPECT_GT(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
 }
 
+// The rover's execution noise but no slipped feet: each step ends where its
+// plan predicts, within the re-plan tolerance.
+rover::SimulatedRoverConfig withoutSlips() {
+  auto rover = simulator();
+  rover.noise.slip_probability = 0;
+  return rover;
+}
+
 TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
-  Console c(steps(3));
+  Console c(steps(3), ground(), withoutSlips());
   c.gate.setMode(ApprovalMode::kAutoApprove);
   c.executive.start(c.now);
   c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
@@ -209,6 +260,21 @@ TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   EXPECT_EQ(d.link.count("LegMove") + d.link.count("BodyMove"), 0);
   EXPECT_EQ(d.executive.phase(), Phase::kAwaitingDecision);
   EXPECT_TRUE(d.gate.pending());
+}
+
+// A supporting foot that slipped 5 cm during the body move leaves the rover
+// off its predicted stance: the plan made ahead is dropped and the next step
+// planned afresh from what the rover reports.
+TEST(Executive, APlanAheadIsDroppedWhenTheRoverEndsOffItsPrediction) {
+  auto slipping = withoutSlips();
+  slipping.noise.slip_probability = 1.0;
+  Console c(steps(3), ground(), slipping);
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone);
+  EXPECT_EQ(c.executive.stepsDone(), 3);
+  EXPECT_EQ(c.executive.stepsPlannedAhead(), 0);
 }
 
 TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {

@@ -123,6 +123,26 @@ class SlidingDeadReckoning : public link::Link {
   Eigen::Vector2d offset_;
 };
 
+// A step planned under one correction is moved to the next by the second
+// after the first undone: applying a correction and then its inverse leaves
+// a stance where it was.
+TEST(PoseCorrection, ItsInverseUndoesIt) {
+  const PoseCorrection c{{0.3, -0.2}, 0.05, 0.02};
+  gait::Stance s;
+  s.body.xy = {1.0, 2.0};
+  s.body.heading_rad = 0.4;
+  s.body.link_z = 1.5;
+  for (int i = 0; i < gait::kLegCount; ++i) s.feet[std::size_t(i)] = {i * 0.5, 3.0 - i, 0.1 * i};
+  const gait::Stance back = c.inverse().apply(c.apply(s));
+  EXPECT_NEAR((back.body.xy - s.body.xy).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(back.body.heading_rad, s.body.heading_rad, 1e-12);
+  EXPECT_NEAR(back.body.link_z, s.body.link_z, 1e-12);
+  for (int i = 0; i < gait::kLegCount; ++i)
+    EXPECT_NEAR((back.feet[std::size_t(i)] - s.feet[std::size_t(i)]).norm(), 0.0, 1e-12) << i;
+  const Eigen::Isometry3d identity = c.transform() * c.inverse().transform();
+  EXPECT_TRUE(identity.isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+}
+
 TEST(PoseCorrector, ADeadReckoningJumpOf30CmIsPulledBackWithin3Cm) {
   const link::OperatorKey key{"test", std::vector<std::uint8_t>(32, 7)};
   rover::SimulatedRoverOptions rover_options;
