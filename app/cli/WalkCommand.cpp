@@ -60,7 +60,7 @@ nlohmann::json resultJson(const walk::WalkResult& r, bool concurrent, bool log) 
                         {"slips", r.slips},
                         {"replans", r.replans},
                         {"wall_s", r.wall_s},
-                        {"ground_busy_s", r.ground_busy_s},
+                        {"ground_busy_s", r.ground_work.total_s()},
                         {"registering_s", r.ground_work.registering_s},
                         {"mapping_s", r.ground_work.mapping_s},
                         {"planning_s", r.ground_work.planning_s},

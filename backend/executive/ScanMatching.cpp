@@ -21,6 +21,11 @@ PoseCorrection PoseCorrection::inverse() const {
   return {-(Eigen::Rotation2Dd(-yaw_rad) * shift), -yaw_rad, -dz_m};
 }
 
+PoseCorrection PoseCorrection::operator*(const PoseCorrection& first) const {
+  return {Eigen::Rotation2Dd(yaw_rad) * first.shift + shift, yaw_rad + first.yaw_rad,
+          dz_m + first.dz_m};
+}
+
 gait::BodyPose PoseCorrection::apply(gait::BodyPose body) const {
   body.xy = Eigen::Rotation2Dd(yaw_rad) * body.xy + shift;
   body.heading_rad += yaw_rad;

@@ -28,6 +28,8 @@ struct PoseCorrection {
 
   Eigen::Isometry3d transform() const;
   PoseCorrection inverse() const;
+  // This correction after `first`: (a * b).apply(x) == a.apply(b.apply(x)).
+  PoseCorrection operator*(const PoseCorrection& first) const;
   gait::BodyPose apply(gait::BodyPose body) const;
   gait::Stance apply(gait::Stance stance) const;
 };

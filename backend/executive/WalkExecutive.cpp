@@ -142,7 +142,7 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
     report_.take(message);
     // The rover reports the body last.
     if (std::holds_alternative<link::BodyState>(message.body)) state_fresh_ = true;
-    if (auto stance = report_.stance(ctx_.model)) reported_ = correction().apply(*stance);
+    placeReported();
   } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
     onAck(*a, now_s);
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
@@ -232,7 +232,7 @@ const ScanMatch& WalkExecutive::correctPose(const sensor::RangeImage& scan, doub
   ScanMatch m = corrector_.correct(scan, map_);
   work_.registering_s += secondsSince(t0);
   if (m.accepted) {
-    if (auto stance = report_.stance(ctx_.model)) reported_ = correction().apply(*stance);
+    placeReported();
   } else if (!matches_.empty()) {  // the first scan has no map to match
     note(now_s, "scan not registered: " + m.refused +
                     (m.disputed ? "; the scan is not merged" : "; dead reckoning carries on"));
@@ -262,6 +262,10 @@ const ScanMatch& WalkExecutive::correctPose(const sensor::RangeImage& scan, doub
   return matches_.back();
 }
 
+void WalkExecutive::placeReported() {
+  if (auto stance = report_.stance(ctx_.model)) reported_ = correction().apply(*stance);
+}
+
 // The scanner looks along the body's forward axis (+y in the body frame).
 std::optional<footfall::ScannerView> WalkExecutive::scannerView(const gait::Stance& from) const {
   if (!scanner_) return std::nullopt;
@@ -284,14 +288,11 @@ namespace {
 // A plan made in the map frame before the correction changed, in the frame
 // the correction now gives.
 void reexpress(gait::StepPlan& plan, const PoseCorrection& before, const PoseCorrection& now) {
-  const Eigen::Isometry3d change = now.transform() * before.inverse().transform();
-  const PoseCorrection step{change.translation().head<2>(),
-                            std::atan2(change.linear()(1, 0), change.linear()(0, 0)),
-                            change.translation().z()};
-  plan.foothold = change * plan.foothold;
-  plan.after_leg = step.apply(plan.after_leg);
-  plan.after = step.apply(plan.after);
-  for (auto& pose : plan.body_path) pose = step.apply(pose);
+  const PoseCorrection change = now * before.inverse();
+  plan.foothold = change.transform() * plan.foothold;
+  plan.after_leg = change.apply(plan.after_leg);
+  plan.after = change.apply(plan.after);
+  for (auto& pose : plan.body_path) pose = change.apply(pose);
 }
 
 }  // namespace
@@ -303,48 +304,51 @@ void reexpress(gait::StepPlan& plan, const PoseCorrection& before, const PoseCor
 // step planned afresh on the newest map.
 void WalkExecutive::planAndPropose(double now_s) {
   const bool had_ahead = ahead_.has_value();
-  std::optional<gait::StepPlan> ahead = takeAhead();
-  if (ahead && !passesInterlocks(*ahead, now_s)) ahead.reset();
-  if (ahead && gate_.mode() == ApprovalMode::kAutoApprove) {
+  std::optional<StepProposal> proposal;
+  if (auto ahead = takeAhead()) proposal = checkAhead(std::move(*ahead), now_s);
+  if (proposal && gate_.mode() == ApprovalMode::kAutoApprove) {
     unmapped_ = std::move(scan_);
   } else {
     const PoseCorrection before = correction();
     mapScan(*scan_, now_s);
-    if (ahead) reexpress(*ahead, before, correction());
-    if (ahead && !passesInterlocks(*ahead, now_s)) ahead.reset();
+    if (proposal) {
+      reexpress(proposal->plan, before, correction());
+      proposal = checkAhead(std::move(proposal->plan), now_s);
+    }
   }
   scan_.reset();
   plan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "plan", scan_task_);
   tasks_.start(plan_task_, now_s);
-  if (ahead) {
+  if (proposal) {
     ++planned_ahead_;
     note(now_s, "step " + std::to_string(steps_done_ + 1) +
                     ": the plan made during the step before, moved onto the reported stance");
   }
   step_ = StepRecord{};
   step_.event = std::exchange(replanned_because_, {});
-  step_.planned_ahead = ahead.has_value();
-  step_.replanned = (had_ahead && !ahead) || !step_.event.empty();
+  step_.planned_ahead = proposal.has_value();
+  step_.replanned = (had_ahead && !proposal) || !step_.event.empty();
   step_.plan_ms = ahead_ms_;
-  if (!ahead) {
+  if (!proposal) {
     const auto t0 = Clock::now();
-    ahead = plan(*reported_);
+    gait::StepPlan fresh = plan(*reported_);
     step_.plan_ms = 1e3 * secondsSince(t0);
-  }
-  gait::StepPlan plan = std::move(*ahead);
-  if (!plan.ok) {
-    tasks_.fail(plan_task_, now_s, plan.reason);
-    suspend(now_s, "no step to propose: " + plan.reason, false);
-    return;
+    if (!fresh.ok) {
+      tasks_.fail(plan_task_, now_s, fresh.reason);
+      suspend(now_s, "no step to propose: " + fresh.reason, false);
+      return;
+    }
+    proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
   }
   tasks_.finish(plan_task_, now_s);
-  step_.leg = plan.leg;
-  step_.foothold = plan.foothold;
-  step_.body_u = plan.body_u;
+  step_.leg = proposal->plan.leg;
+  step_.foothold = proposal->plan.foothold;
+  step_.body_u = proposal->plan.body_u;
   approval_task_ = tasks_.add(step_task_, TaskKind::kApproval, "approval", plan_task_);
   tasks_.start(approval_task_, now_s);
   phase_ = Phase::kAwaitingDecision;
-  gate_.propose(makeProposal(next_proposal_++, *reported_, std::move(plan), map_, ctx_), now_s);
+  proposal->id = next_proposal_++;
+  gate_.propose(std::move(*proposal), now_s);
 }
 
 // While the step's first command executes: the scan its plan went out
@@ -377,14 +381,15 @@ void WalkExecutive::planAhead(double now_s) {
   ahead_ = std::move(plan);
 }
 
-// The plan ahead passes every interlock from the reported stance on the map
-// as it stands; if not, the log says which.
-bool WalkExecutive::passesInterlocks(const gait::StepPlan& ahead, double now_s) {
-  const auto failure = makeProposal(0, *reported_, ahead, map_, ctx_).interlocks.firstFailure();
-  if (failure.empty()) return true;
+// The plan ahead as a proposal from the reported stance on the map as it
+// stands, if it passes every interlock; if not, the log says which.
+std::optional<StepProposal> WalkExecutive::checkAhead(gait::StepPlan ahead, double now_s) {
+  StepProposal p = makeProposal(0, *reported_, std::move(ahead), map_, ctx_);
+  const auto failure = p.interlocks.firstFailure();
+  if (failure.empty()) return p;
   note(now_s, "step " + std::to_string(steps_done_ + 1) + ": the plan made ahead fails " + failure +
                   "; planning afresh");
-  return false;
+  return std::nullopt;
 }
 
 // The plan ahead if the rover ended close enough to its prediction for the

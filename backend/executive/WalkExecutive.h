@@ -85,6 +85,7 @@ struct GroundWork {
   double registering_s = 0.0;
   double mapping_s = 0.0;
   double planning_s = 0.0;
+  double total_s() const { return registering_s + mapping_s + planning_s; }
 };
 
 // A derived product (kind, and the parameters that recompute it from the
@@ -151,13 +152,15 @@ class WalkExecutive {
   void requestScan(double now_s);
   void mapScan(const sensor::RangeImage& scan, double now_s);
   const ScanMatch& correctPose(const sensor::RangeImage& scan, double now_s);
+  // reported_ from the newest report and the correction in use.
+  void placeReported();
   gait::StepPlan plan(const gait::Stance& from);
   std::optional<footfall::ScannerView> scannerView(const gait::Stance& from) const;
   void planAndPropose(double now_s);
   void mapDeferredScan(double now_s);
   void planAhead(double now_s);
   std::optional<gait::StepPlan> takeAhead();
-  bool passesInterlocks(const gait::StepPlan& ahead, double now_s);
+  std::optional<StepProposal> checkAhead(gait::StepPlan ahead, double now_s);
   void startExecuting(StepProposal proposal, double now_s);
   void sendNext(double now_s);
   void afterMove(double now_s);

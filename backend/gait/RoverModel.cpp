@@ -1,5 +1,6 @@
 #include "gait/RoverModel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,14 @@ LegJoints RoverModel::jointsFor(int leg, const Eigen::Vector3d& foot) const {
 bool RoverModel::withinLimits(const LegJoints& q) const {
   return q.extension_m >= extension_min_m - 1e-9 && q.extension_m <= extension_max_m + 1e-9 &&
          q.vertical_m >= vertical_min_m - 1e-9 && q.vertical_m <= vertical_max_m + 1e-9;
+}
+
+double RoverModel::beyondLimits(const LegJoints& q) const {
+  const auto beyond = [](double v, double lo, double hi) {
+    return std::max(0.0, lo - v) + std::max(0.0, v - hi);
+  };
+  return beyond(q.extension_m, extension_min_m, extension_max_m) +
+         beyond(q.vertical_m, vertical_min_m, vertical_max_m);
 }
 
 void validate(const RoverModel& m) {

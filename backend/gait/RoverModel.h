@@ -53,6 +53,9 @@ struct RoverModel {
   // is in (-pi, pi].
   LegJoints jointsFor(int leg, const Eigen::Vector3d& foot) const;
   bool withinLimits(const LegJoints& q) const;
+  // How far q's extension and vertical reach lie outside their limits,
+  // summed (0 within them).
+  double beyondLimits(const LegJoints& q) const;
 };
 
 // Throws std::invalid_argument naming the first field out of range.

@@ -95,18 +95,9 @@ StanceCheck checkStance(const Stance& stance, const RoverModel& model, double cs
 }
 
 double reachExcess(const Stance& stance, const RoverModel& model) {
-  const auto beyond = [](double v, double lo, double hi) {
-    return std::max(0.0, lo - v) + std::max(0.0, v - hi);
-  };
   double excess = 0.0;
-  for (int i = 0; i < kLegCount; ++i) {
-    if (!stance.supporting[std::size_t(i)]) continue;
-    const Eigen::Vector3d& w = stance.feet[std::size_t(i)];
-    const double extension =
-        (stance.body.toBody(Eigen::Vector2d(w.head<2>())) - model.shaftOf(i)).norm();
-    excess += beyond(extension, model.extension_min_m, model.extension_max_m) +
-              beyond(stance.body.link_z - w.z(), model.vertical_min_m, model.vertical_max_m);
-  }
+  for (int i = 0; i < kLegCount; ++i)
+    if (stance.supporting[std::size_t(i)]) excess += model.beyondLimits(stance.joints(model, i));
   return excess;
 }
 

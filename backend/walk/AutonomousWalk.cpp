@@ -148,9 +148,7 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   r.leg_collisions = truth.collisions;
   r.slips = truth.slips;
   r.modelled_execution_s = truth.busy_s;
-  const auto& work = e.groundWork();
-  r.ground_busy_s = work.registering_s + work.mapping_s + work.planning_s;
-  r.ground_work = work;
+  r.ground_work = e.groundWork();
 }
 
 }  // namespace
@@ -204,8 +202,8 @@ WalkOptions onLongTraverse(std::uint64_t seed, int steps) {
 }
 
 double timeScaleOfTheReport(const WalkResult& probe) {
-  if (!(probe.modelled_execution_s > 0) || !(probe.ground_busy_s > 0)) return 0.0;
-  return kReportExecutionPerGroundWork * probe.ground_busy_s / probe.modelled_execution_s;
+  if (!(probe.modelled_execution_s > 0) || !(probe.ground_work.total_s() > 0)) return 0.0;
+  return kReportExecutionPerGroundWork * probe.ground_work.total_s() / probe.modelled_execution_s;
 }
 
 }  // namespace ambler::walk

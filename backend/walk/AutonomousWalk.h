@@ -89,8 +89,7 @@ struct WalkResult {
   int replans =
       0;  // steps planned afresh: the rover ended off its prediction, or a leg stopped early
   double wall_s = 0.0;
-  double ground_busy_s = 0.0;         // registration, mapping and planning, wall time
-  executive::GroundWork ground_work;  // the same, part by part
+  executive::GroundWork ground_work;  // registration, mapping and planning, wall time
   double modelled_execution_s = 0.0;  // the rover's moves and scans, simulated time
   std::string stopped;                // why the walk ended early, empty when it did not
   std::vector<WalkStep> log;

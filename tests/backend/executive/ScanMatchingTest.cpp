@@ -126,7 +126,7 @@ class SlidingDeadReckoning : public link::Link {
 // A step planned under one correction is moved to the next by the second
 // after the first undone: applying a correction and then its inverse leaves
 // a stance where it was.
-TEST(PoseCorrection, ItsInverseUndoesIt) {
+TEST(PoseCorrection, ItsInverseUndoesItAndTwoComposeAsOne) {
   const PoseCorrection c{{0.3, -0.2}, 0.05, 0.02};
   gait::Stance s;
   s.body.xy = {1.0, 2.0};
@@ -141,6 +141,15 @@ TEST(PoseCorrection, ItsInverseUndoesIt) {
     EXPECT_NEAR((back.feet[std::size_t(i)] - s.feet[std::size_t(i)]).norm(), 0.0, 1e-12) << i;
   const Eigen::Isometry3d identity = c.transform() * c.inverse().transform();
   EXPECT_TRUE(identity.isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+
+  // Composed, two corrections act as one after the other.
+  const PoseCorrection d{{-0.1, 0.4}, -0.02, -0.01};
+  const gait::Stance twice = (d * c).apply(s);
+  const gait::Stance each = d.apply(c.apply(s));
+  EXPECT_NEAR((twice.body.xy - each.body.xy).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(twice.body.heading_rad, each.body.heading_rad, 1e-12);
+  EXPECT_NEAR(twice.body.link_z, each.body.link_z, 1e-12);
+  EXPECT_TRUE((d * c).transform().isApprox(d.transform() * c.transform(), 1e-12));
 }
 
 TEST(PoseCorrector, ADeadReckoningJumpOf30CmIsPulledBackWithin3Cm) {

@@ -48,9 +48,10 @@ TEST(Walk, SequentialModeWalksToo) {
   // Every step's moves and scan are accounted for: 10 scans of 0.5 s at
   // least, and ground work was timed.
   EXPECT_GT(r.modelled_execution_s, 10 * 0.5);
-  EXPECT_GT(r.ground_busy_s, 0.0);
+  EXPECT_GT(r.ground_work.total_s(), 0.0);
   // Scaled to the Ambler's ratio, execution takes 0.75 of the ground's work.
-  EXPECT_NEAR(timeScaleOfTheReport(r) * r.modelled_execution_s, 0.75 * r.ground_busy_s, 1e-12);
+  EXPECT_NEAR(timeScaleOfTheReport(r) * r.modelled_execution_s, 0.75 * r.ground_work.total_s(),
+              1e-12);
   EXPECT_EQ(timeScaleOfTheReport(WalkResult{}), 0.0);
 }
 
