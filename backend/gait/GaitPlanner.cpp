@@ -140,31 +140,52 @@ std::vector<BodyPose> bodyPath(const Stance& start, const Heading& heading, doub
   return path;
 }
 
-// Tries the cheapest cells of leg's composite cost map until one keeps
-// every constraint and leaves a body move after which a leg can lift.
+// The footfall module's cost maps for `leg` over a square of half side
+// search_half_m x widen around `centre` (world); none off the map.
+std::optional<footfall::CostMaps> costMapsAround(
+    const Stance& stance, const Heading& heading, const terrain::ElevationMap& map,
+    const GaitContext& ctx, const std::optional<footfall::ScannerView>& scanner, int leg,
+    const Eigen::Vector2d& centre, double widen) {
+  const RoverModel& m = ctx.model;
+  const double h = ctx.gait.search_half_m * widen;
+  const Box2 region{centre.x() - h, centre.y() - h, centre.x() + h, centre.y() + h};
+  const Box2 bounds = map.grid().bounds();
+  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
+      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
+    return std::nullopt;
+  const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
+                     std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
+  footfall::CostMapOptions fo = ctx.footfall;
+  fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
+  fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
+  return footfall::buildCostMaps(map, clipped, legContext(stance, heading, m, leg, scanner), fo);
+}
+
+// Tries the cheapest cells of leg's composite cost map around `centre`
+// (among equals, nearest it) until one keeps every constraint and leaves a
+// body move after which a leg can lift.
 std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& heading,
                                          const terrain::ElevationMap& map, const GaitContext& ctx,
                                          const std::optional<footfall::ScannerView>& scanner,
-                                         int leg, double widen) {
+                                         int leg, const Eigen::Vector2d& centre, double widen) {
   const RoverModel& m = ctx.model;
-  const Eigen::Vector2d ideal =
-      stance.body.toWorld(idealFoothold(stance, heading, m, ctx.gait, leg));
   const Eigen::Vector2d d = heading.motionAt(m.shaftOf(leg));
   const Eigen::Vector2d lateral = stance.body.rotation() * Eigen::Vector2d(d.y(), -d.x());
-  const auto costs = legCostMaps(stance, heading, map, ctx, scanner, leg, widen);
+  const auto costs = costMapsAround(stance, heading, map, ctx, scanner, leg, centre, widen);
   if (!costs) return std::nullopt;
   const footfall::CostMaps& maps = *costs;
   const footfall::LegContext lc = legContext(stance, heading, m, leg, scanner);
 
-  // Cheapest first; among equals, nearest the pattern's foothold (a foot
-  // placed too far ahead would leave the rear leg unable to lift later).
+  // Cheapest first; among equals, nearest the centre: the pattern's
+  // foothold (a foot placed too far ahead would leave the rear leg unable to
+  // lift later), or where a shuffled foot stands.
   const auto& score = maps.composite.score;
   const GridSpec& g = maps.composite.grid;
   std::vector<std::pair<double, int>> order;
   for (int i = 0; i < int(score.size()); ++i)
     if (std::isfinite(score.data()[i]))
       order.push_back({score.data()[i] + ctx.gait.pattern_weight *
-                                             (g.cellCenter(i / g.cols, i % g.cols) - ideal).norm(),
+                                             (g.cellCenter(i / g.cols, i % g.cols) - centre).norm(),
                        i});
   std::sort(order.begin(), order.end());
   // The cheapest cell that keeps every constraint, preferring one after
@@ -178,7 +199,7 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     // Setting a foot down where it stood is no step.
     if ((xy - stance.feet[std::size_t(leg)].head<2>()).norm() < ctx.gait.pitch_m / 4) continue;
     // Keep the tread: the stance's CSP depends on it more than on the pitch.
-    if (std::abs((xy - ideal).dot(lateral)) > ctx.gait.tread_tolerance_m * widen) continue;
+    if (std::abs((xy - centre).dot(lateral)) > ctx.gait.tread_tolerance_m * widen) continue;
     const double z = soleHeight(map, xy, 0.5 * m.foot_diameter_m);
     if (!std::isfinite(z)) continue;
     Stance placed = stance;
@@ -205,6 +226,7 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     c.global_advance = footfall::bodyAdvance(xy, lc, m.extension_max_m, 10.0);
     c.support_area = area(conservativeSupportPolygon(raised.supportingFeet()));
     c.search_widen = widen;
+    c.search_centre = centre;
     if (c.keeps_cycle) return c;
     if (!fallback) fallback = c;
   }
@@ -218,21 +240,9 @@ std::optional<footfall::CostMaps> legCostMaps(const Stance& stance, const Headin
                                               const GaitContext& ctx,
                                               const std::optional<footfall::ScannerView>& scanner,
                                               int leg, double widen) {
-  const RoverModel& m = ctx.model;
   const Eigen::Vector2d ideal =
-      stance.body.toWorld(idealFoothold(stance, heading, m, ctx.gait, leg));
-  const double h = ctx.gait.search_half_m * widen;
-  const Box2 region{ideal.x() - h, ideal.y() - h, ideal.x() + h, ideal.y() + h};
-  const Box2 bounds = map.grid().bounds();
-  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
-      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
-    return std::nullopt;
-  const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
-                     std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
-  footfall::CostMapOptions fo = ctx.footfall;
-  fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
-  fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
-  return footfall::buildCostMaps(map, clipped, legContext(stance, heading, m, leg, scanner), fo);
+      stance.body.toWorld(idealFoothold(stance, heading, ctx.model, ctx.gait, leg));
+  return costMapsAround(stance, heading, map, ctx, scanner, leg, ideal, widen);
 }
 
 void validate(const GaitOptions& g) {
@@ -292,21 +302,37 @@ namespace {
 
 // Every liftable leg's best placement: around the ideal footholds first;
 // where obstacles or unknown ground leave nothing there, over wider areas
-// (2x, 3x) before giving up. Ranked by the normalised product of local
+// (2x, 3x) before giving up; where nothing ahead lets the leg due next lift
+// after it, a shuffle (below). Ranked by the normalised product of local
 // advance, global advance and CSP area (cmu-1990 'Planning strategies',
 // fig. 8); a placement after which the leg due next cannot lift only wins
 // when nothing else is possible.
 std::vector<LegCandidate> rankedCandidates(const Stance& stance, const Heading& heading,
                                            const terrain::ElevationMap& map, const GaitContext& ctx,
                                            const std::optional<footfall::ScannerView>& scanner,
-                                           double max_widen = 3.0) {
+                                           double max_widen = 3.0, bool shuffle = true) {
   std::vector<LegCandidate> out;
   const auto legs = liftableLegs(stance, ctx.model, ctx.gait.csp_margin_m);
-  for (double widen = 1.0; widen <= max_widen; widen += 1.0) {
-    for (int leg : legs)
-      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, widen)) out.push_back(*c);
-    if (std::any_of(out.begin(), out.end(), [](const auto& c) { return c.keeps_cycle; })) break;
-  }
+  const auto keepsCycle = [&out] {
+    return std::any_of(out.begin(), out.end(), [](const auto& c) { return c.keeps_cycle; });
+  };
+  for (double widen = 1.0; widen <= max_widen && !keepsCycle(); widen += 1.0)
+    for (int leg : legs) {
+      const Eigen::Vector2d ideal =
+          stance.body.toWorld(idealFoothold(stance, heading, ctx.model, ctx.gait, leg));
+      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, ideal, widen))
+        out.push_back(*c);
+    }
+  // A rear foot trails so far that the middle feet cannot hold the body
+  // without it, and every placement ahead leaves it so: a shuffle sets a
+  // foot down near where it stands, backward too, so that the trailing leg
+  // may lift next.
+  if (shuffle && !keepsCycle())
+    for (int leg : legs) {
+      const Eigen::Vector2d here = stance.feet[std::size_t(leg)].head<2>();
+      if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, here, 2.0))
+        if (c->keeps_cycle) out.push_back(*c);
+    }
   double top_local = 0, top_global = 0, top_area = 0;
   for (const auto& c : out) {
     top_local = std::max(top_local, c.local_advance);
@@ -336,10 +362,11 @@ void preferOpenFutures(std::vector<LegCandidate>& ranked, const Stance& stance,
                        const Heading& heading, const terrain::ElevationMap& map,
                        const GaitContext& ctx) {
   std::stable_partition(ranked.begin(), ranked.end(), [&](const LegCandidate& c) {
-    // Around the ideal footholds only: enough to see a dead end coming, and
-    // it keeps a step's planning time even.
+    // Around the ideal footholds only, no shuffles: enough to see a dead
+    // end coming (a future that needs a shuffle is one), and it keeps a
+    // step's planning time even.
     const auto next =
-        rankedCandidates(afterStep(stance, c, heading, ctx), heading, map, ctx, {}, 2.0);
+        rankedCandidates(afterStep(stance, c, heading, ctx), heading, map, ctx, {}, 2.0, false);
     return std::any_of(next.begin(), next.end(), [](const auto& n) { return n.keeps_cycle; });
   });
 }
@@ -398,7 +425,8 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
     plan.leg = c.leg;
     plan.foothold = c.foothold;
     plan.recovery = std::move(r);
-    plan.leg_costs = legCostMaps(stance, heading, map, ctx, scanner, c.leg, c.search_widen);
+    plan.leg_costs =
+        costMapsAround(stance, heading, map, ctx, scanner, c.leg, c.search_centre, c.search_widen);
     placed.feet[std::size_t(c.leg)] = c.foothold;
     plan.min_csp_margin = marginWithout(stance, m, c.leg);
     break;

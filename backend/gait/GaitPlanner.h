@@ -40,12 +40,13 @@ struct GaitContext {
 struct LegCandidate {
   int leg = -1;
   Eigen::Vector3d foothold{0, 0, 0};
-  double local_advance = 0.0;   // next body move [m or rad]
-  double global_advance = 0.0;  // until this foot must recover again [m]
-  double support_area = 0.0;    // of the CSP after placement [m^2]
-  bool keeps_cycle = false;     // the leg due next can lift after the body move
-  double merit = 0.0;           // normalised product
-  double search_widen = 1.0;    // the search region's scale it was found in
+  double local_advance = 0.0;           // next body move [m or rad]
+  double global_advance = 0.0;          // until this foot must recover again [m]
+  double support_area = 0.0;            // of the CSP after placement [m^2]
+  bool keeps_cycle = false;             // the leg due next can lift after the body move
+  double merit = 0.0;                   // normalised product
+  double search_widen = 1.0;            // the search region's scale it was found in
+  Eigen::Vector2d search_centre{0, 0};  // and its centre (world)
 };
 
 // One step: a leg recovery (unless no leg can be lifted) and a body move.

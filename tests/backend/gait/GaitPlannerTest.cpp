@@ -2,6 +2,7 @@
 // (cmu-1990 'Planning strategies for the Ambler', 'Single leg walking').
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -211,6 +212,45 @@ TEST(GaitPlanner, ShowsTheLegsCostMapsAndTheBodysPath) {
     // On the circle of radius 8 m about (-8, 0).
     EXPECT_NEAR((plan.body_path[i].xy - Eigen::Vector2d(-8, 0)).norm(), 8.0, 1e-6);
   }
+}
+
+// The stance a walk stalled in (traverse seed 2, step 70): the right rear
+// foot (leg 4) trails two metres behind the body and cannot lift, because
+// without it the right stack's other feet (3 and 5) stand too near the
+// centre; only leg 5 may lift, and any foothold ahead leaves it so. The
+// planner shuffles leg 5 backward instead, after which leg 4 may lift.
+TEST(GaitPlanner, ShufflesAFootBackSoThatATrailingLegMayLift) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Stance s;
+  s.body = {{-0.264, 22.962}, 0.0146, 2.4};
+  s.feet = {Eigen::Vector3d(-2.424, 22.254, 0),
+            {-2.536, 23.319, 0},
+            {-1.950, 24.850, 0},
+            {1.758, 23.136, 0},
+            {1.873, 21.038, 0},
+            {2.168, 22.541, 0}};
+  ASSERT_TRUE(checkStance(s, ctx.model, ctx.gait.csp_margin_m).ok());
+  ASSERT_EQ(liftableLegs(s, ctx.model, ctx.gait.csp_margin_m), std::vector<int>{5});
+
+  const StepPlan plan = planStep(s, Heading{}, map, ctx);
+  ASSERT_TRUE(plan.ok) << plan.reason;
+  EXPECT_EQ(plan.leg, 5);
+  EXPECT_LT(plan.foothold.y(), s.feet[5].y());  // behind where it stood: no search ahead has it
+  EXPECT_TRUE(checkStance(plan.after, ctx.model, ctx.gait.csp_margin_m).ok());
+  const auto liftable = liftableLegs(plan.after, ctx.model, ctx.gait.csp_margin_m);
+  EXPECT_NE(std::find(liftable.begin(), liftable.end(), 4), liftable.end());
+
+  // And the walk goes on from there: leg 4 recovers within two steps.
+  Stance next = plan.after;
+  bool recovered = false;
+  for (int step = 0; step < 2 && !recovered; ++step) {
+    const StepPlan p = planStep(next, Heading{}, map, ctx);
+    ASSERT_TRUE(p.ok) << p.reason;
+    recovered = p.leg == 4;
+    next = p.after;
+  }
+  EXPECT_TRUE(recovered);
 }
 
 TEST(GaitPlanner, NeedsKnownGround) {
