@@ -37,6 +37,8 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
                       {"planned_ahead", s.planned_ahead},
                       {"pose_error_m", s.pose_error_m},
                       {"dead_reckoning_error_m", s.dead_reckoning_error_m},
+                      {"heading_error_rad", s.heading_error_rad},
+                      {"dead_reckoning_heading_error_rad", s.dead_reckoning_heading_error_rad},
                       {"event", s.event}};
   if (s.leg >= 0) j["foothold"] = {s.foothold.x(), s.foothold.y(), s.foothold.z()};
   return j;

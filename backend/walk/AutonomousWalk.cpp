@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <optional>
 
@@ -122,10 +123,15 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   std::vector<double> plan_ms;
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const auto& s = steps[k];
-    WalkStep w{s.leg, s.foothold, s.body_u, s.plan_ms, s.planned_ahead, 0.0, 0.0, s.event};
+    WalkStep w{s.leg, s.foothold, s.body_u, s.plan_ms, s.planned_ahead,
+               0.0,   0.0,        0.0,      0.0,       s.event};
     if (k < truth.after_body_moves.size()) {
-      w.pose_error_m = (s.estimated.xy - truth.after_body_moves[k].xy).norm();
-      w.dead_reckoning_error_m = (s.reported.xy - truth.after_body_moves[k].xy).norm();
+      const gait::BodyPose& t = truth.after_body_moves[k];
+      w.pose_error_m = (s.estimated.xy - t.xy).norm();
+      w.dead_reckoning_error_m = (s.reported.xy - t.xy).norm();
+      w.heading_error_rad = std::remainder(s.estimated.heading_rad - t.heading_rad, 2 * M_PI);
+      w.dead_reckoning_heading_error_rad =
+          std::remainder(s.reported.heading_rad - t.heading_rad, 2 * M_PI);
     }
     r.pose_error_max_m = std::max(r.pose_error_max_m, w.pose_error_m);
     r.dead_reckoning_error_max_m = std::max(r.dead_reckoning_error_max_m, w.dead_reckoning_error_m);

@@ -56,11 +56,14 @@ struct WalkStep {
   double body_u = 0.0;
   double plan_ms = 0.0;
   bool planned_ahead = false;
-  // The body's position after the step against the truth: where the ground
+  // The body's pose after the step against the truth: where the ground
   // placed it (the rover's report, corrected by registration) and where the
-  // rover's dead reckoning alone put it.
+  // rover's dead reckoning alone put it; heading errors signed, estimate
+  // minus truth.
   double pose_error_m = 0.0;
   double dead_reckoning_error_m = 0.0;
+  double heading_error_rad = 0.0;
+  double dead_reckoning_heading_error_rad = 0.0;
   std::string event;
 };
 

@@ -3,6 +3,8 @@
 // on seeds 1-5 with the default noise, scored against the simulator's truth.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::walk {
@@ -73,6 +75,10 @@ TEST(Walk, SingleFootSlipsAreCaughtByDeadReckoning) {
   ASSERT_GT(r.slips, 3);
   EXPECT_LT(r.dead_reckoning_error_max_m, 0.03);
   EXPECT_EQ(r.pose_error_max_m, r.dead_reckoning_error_max_m) << "nothing corrects it";
+  for (const auto& step : r.log) {
+    EXPECT_EQ(step.heading_error_rad, step.dead_reckoning_heading_error_rad);
+    EXPECT_LT(std::abs(step.dead_reckoning_heading_error_rad), 0.003);  // the heading too
+  }
   EXPECT_EQ(r.scans_registered, 0);
   EXPECT_EQ(r.csp_violations, 0);
 }
