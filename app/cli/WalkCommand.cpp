@@ -45,28 +45,33 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
 }
 
 nlohmann::json resultJson(const walk::WalkResult& r, bool concurrent, bool log) {
-  nlohmann::json out = {{"mode", concurrent ? "concurrent" : "sequential"},
-                        {"steps", r.steps},
-                        {"distance_m", r.distance_m},
-                        {"heading_change_deg", r.heading_change_deg},
-                        {"min_stability_margin_m", r.min_stability_margin_m},
-                        {"csp_violations", r.csp_violations},
-                        {"leg_collisions", r.leg_collisions},
-                        {"plan_ms_median", r.plan_ms_median},
-                        {"pose_error_final_m", r.pose_error_final_m},
-                        {"pose_error_max_m", r.pose_error_max_m},
-                        {"dead_reckoning_error_final_m", r.dead_reckoning_error_final_m},
-                        {"dead_reckoning_error_max_m", r.dead_reckoning_error_max_m},
-                        {"scans_registered", r.scans_registered},
-                        {"scans_not_registered", r.scans_not_registered},
-                        {"slips", r.slips},
-                        {"replans", r.replans},
-                        {"wall_s", r.wall_s},
-                        {"ground_busy_s", r.ground_work.total_s()},
-                        {"registering_s", r.ground_work.registering_s},
-                        {"mapping_s", r.ground_work.mapping_s},
-                        {"planning_s", r.ground_work.planning_s},
-                        {"modelled_execution_s", r.modelled_execution_s}};
+  nlohmann::json out = {
+      {"mode", concurrent ? "concurrent" : "sequential"},
+      {"steps", r.steps},
+      {"distance_m", r.distance_m},
+      {"heading_change_deg", r.heading_change_deg},
+      {"min_stability_margin_m", r.min_stability_margin_m},
+      {"csp_violations", r.csp_violations},
+      {"leg_collisions", r.leg_collisions},
+      {"plan_ms_median", r.plan_ms_median},
+      {"pose_error_final_m", r.pose_error_final_m},
+      {"pose_error_max_m", r.pose_error_max_m},
+      {"pose_error_rms_m", r.pose_error_rms_m},
+      {"heading_error_rms_rad", r.heading_error_rms_rad},
+      {"dead_reckoning_error_final_m", r.dead_reckoning_error_final_m},
+      {"dead_reckoning_error_max_m", r.dead_reckoning_error_max_m},
+      {"dead_reckoning_error_rms_m", r.dead_reckoning_error_rms_m},
+      {"dead_reckoning_heading_error_rms_rad", r.dead_reckoning_heading_error_rms_rad},
+      {"scans_registered", r.scans_registered},
+      {"scans_not_registered", r.scans_not_registered},
+      {"slips", r.slips},
+      {"replans", r.replans},
+      {"wall_s", r.wall_s},
+      {"ground_busy_s", r.ground_work.total_s()},
+      {"registering_s", r.ground_work.registering_s},
+      {"mapping_s", r.ground_work.mapping_s},
+      {"planning_s", r.ground_work.planning_s},
+      {"modelled_execution_s", r.modelled_execution_s}};
   if (!r.stopped.empty()) out["stopped"] = r.stopped;
   if (log) {
     out["log"] = nlohmann::json::array();
@@ -181,10 +186,14 @@ nlohmann::json walkJson(std::uint64_t seed, const walk::WalkResult& r) {
       {"registered",
        {{"final_m", r.pose_error_final_m},
         {"max_m", r.pose_error_max_m},
+        {"rms_m", r.pose_error_rms_m},
+        {"heading_rms_rad", r.heading_error_rms_rad},
         {"final_pct_of_distance", percentOf(r.pose_error_final_m, r.distance_m)}}},
       {"dead_reckoning",
        {{"final_m", r.dead_reckoning_error_final_m},
         {"max_m", r.dead_reckoning_error_max_m},
+        {"rms_m", r.dead_reckoning_error_rms_m},
+        {"heading_rms_rad", r.dead_reckoning_heading_error_rms_rad},
         {"final_pct_of_distance", percentOf(r.dead_reckoning_error_final_m, r.distance_m)}}},
       {"scans_registered", r.scans_registered},
       {"scans_not_registered", r.scans_not_registered}};
@@ -198,8 +207,9 @@ nlohmann::json walkJson(std::uint64_t seed, const walk::WalkResult& r) {
 // time planning ahead saves, walk after walk.
 nlohmann::json evalWalk(const EvalWalkArgs& a) {
   const auto config = readConfig(WalkArgs{});
-  std::vector<double> distance, margin, pose_error, pose_pct, dr_error, dr_pct, plan_ms, saving;
-  int violations = 0, collisions = 0, stopped = 0, not_worse = 0;
+  std::vector<double> distance, margin, pose_error, pose_pct, dr_error, dr_pct, pose_rms, dr_rms,
+      plan_ms, saving;
+  int violations = 0, collisions = 0, stopped = 0, not_worse = 0, rms_not_worse = 0;
   double total_m = 0.0, moving_s = 0.0;
   nlohmann::json walks = nlohmann::json::array();
   for (const auto seed : a.seeds) {
@@ -211,8 +221,11 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
     pose_pct.push_back(percentOf(r.pose_error_final_m, r.distance_m));
     dr_error.push_back(r.dead_reckoning_error_final_m);
     dr_pct.push_back(percentOf(r.dead_reckoning_error_final_m, r.distance_m));
+    pose_rms.push_back(r.pose_error_rms_m);
+    dr_rms.push_back(r.dead_reckoning_error_rms_m);
     plan_ms.push_back(r.plan_ms_median);
     not_worse += r.pose_error_final_m <= r.dead_reckoning_error_final_m;
+    rms_not_worse += r.pose_error_rms_m <= r.dead_reckoning_error_rms_m;
     violations += r.csp_violations, collisions += r.leg_collisions, stopped += !r.stopped.empty();
     total_m += r.distance_m, moving_s += r.modelled_execution_s;
   }
@@ -239,6 +252,9 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
           {"dead_reckoning_error_final_m", distribution(dr_error)},
           {"dead_reckoning_error_final_pct", distribution(dr_pct)},
           {"walks_registration_not_worse", not_worse},
+          {"pose_error_rms_m", distribution(pose_rms)},
+          {"dead_reckoning_error_rms_m", distribution(dr_rms)},
+          {"walks_registration_rms_not_worse", rms_not_worse},
           {"plan_ms_median", distribution(plan_ms)},
           {"wall_saving_pct", spread(saving)},
           {"speed_while_moving_m_per_min", moving_s > 0 ? 60.0 * total_m / moving_s : 0.0},

@@ -142,6 +142,15 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   if (!r.log.empty()) {
     r.pose_error_final_m = r.log.back().pose_error_m;
     r.dead_reckoning_error_final_m = r.log.back().dead_reckoning_error_m;
+    const auto rms = [&r](double WalkStep::*error) {
+      double sum = 0.0;
+      for (const auto& w : r.log) sum += (w.*error) * (w.*error);
+      return std::sqrt(sum / double(r.log.size()));
+    };
+    r.pose_error_rms_m = rms(&WalkStep::pose_error_m);
+    r.heading_error_rms_rad = rms(&WalkStep::heading_error_rad);
+    r.dead_reckoning_error_rms_m = rms(&WalkStep::dead_reckoning_error_m);
+    r.dead_reckoning_heading_error_rms_rad = rms(&WalkStep::dead_reckoning_heading_error_rad);
   }
   for (const auto& m : e.scanMatches())
     ++(m.accepted ? r.scans_registered : r.scans_not_registered);

@@ -80,12 +80,17 @@ struct WalkResult {
   int leg_collisions = 0;
   double plan_ms_median = 0.0;
   // The ground's estimate of the body position against the truth, at the
-  // end and the worst along the walk; the same for the rover's dead
-  // reckoning alone (equal when registration is off).
+  // end, the worst and the root mean square over the steps, and the
+  // heading's root mean square; the same for the rover's dead reckoning
+  // alone (equal when registration is off).
   double pose_error_final_m = 0.0;
   double pose_error_max_m = 0.0;
+  double pose_error_rms_m = 0.0;
+  double heading_error_rms_rad = 0.0;
   double dead_reckoning_error_final_m = 0.0;
   double dead_reckoning_error_max_m = 0.0;
+  double dead_reckoning_error_rms_m = 0.0;
+  double dead_reckoning_heading_error_rms_rad = 0.0;
   int scans_registered = 0;
   int scans_not_registered = 0;  // refused, the first scan included
   int slips = 0;                 // feet the simulator slipped

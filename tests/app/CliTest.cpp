@@ -506,6 +506,14 @@ TEST(Cli, EvalWalkComparesConcurrentAndSequentialPlanning) {
     EXPECT_GE(w["registered"]["max_m"].get<double>(), w["registered"]["final_m"].get<double>());
     EXPECT_GE(w["dead_reckoning"]["max_m"].get<double>(),
               w["dead_reckoning"]["final_m"].get<double>());
+    // The root mean square over the steps lies between nothing and the worst.
+    for (const char* estimate : {"registered", "dead_reckoning"}) {
+      const double rms = w[estimate]["rms_m"].get<double>();
+      EXPECT_GT(rms, 0.0) << estimate;
+      EXPECT_LE(rms, w[estimate]["max_m"].get<double>()) << estimate;
+      EXPECT_GT(w[estimate]["heading_rms_rad"].get<double>(), 0.0) << estimate;
+      EXPECT_LT(w[estimate]["heading_rms_rad"].get<double>(), 0.05) << estimate;
+    }
     EXPECT_GT(w["scans_registered"].get<int>(), 0);
   }
   EXPECT_EQ(j["wall_saving_pct"]["runs"], 3);
