@@ -160,8 +160,11 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
   const double above_goal = std::max(soleAt(cells.size() - 1), goal.z() + o.clearance_m);
   plan.waypoints.push_back(
       {goal_q.rotation_rad, goal_q.extension_m, stance.body.link_z - above_goal});
-  plan.waypoints.push_back({goal_q.rotation_rad, goal_q.extension_m,
-                            stance.body.link_z - goal.z() + touchdown_overshoot});
+  // A goal near the bottom of the leg's travel leaves less room to aim
+  // below it than the overshoot; the aim stops at the limit.
+  plan.waypoints.push_back(
+      {goal_q.rotation_rad, goal_q.extension_m,
+       std::min(stance.body.link_z - goal.z() + touchdown_overshoot, model.vertical_max_m)});
   for (const auto& q : plan.waypoints)
     plan.max_lift_m = std::max(plan.max_lift_m, stance.body.link_z - q.vertical_m - start_z);
   const double lift = first - start_z;

@@ -40,8 +40,9 @@ struct RecoveryPlan {
 
 // Plans `leg` from its foot in `stance` to `goal` (world sole position).
 // The other legs stand where `stance` has them. The last waypoint aims
-// `touchdown_overshoot` below the goal so the controller's contact stop
-// ends the move (cmu-1990 'Real-time control').
+// `touchdown_overshoot` below the goal, or as far as the leg's vertical
+// travel allows, so the controller's contact stop ends the move (cmu-1990
+// 'Real-time control'). Every waypoint is within the leg's limits.
 RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int leg,
                              const Eigen::Vector3d& goal, const ClearanceField& clearance,
                              const RecoveryOptions& options = {}, double touchdown_overshoot = 0.1);

@@ -264,6 +264,27 @@ TEST(GaitPlanner, NeedsKnownGround) {
 
 // A wall too tall to lift over between the start and the goal: the path
 // goes around it; a low block is lifted over.
+// A foothold 2.95 m below the link plane (the far side of a trench, obstacle
+// course seed 6): the touch-down aims below it only down to the leg's 3 m
+// limit, so the interlocks do not refuse the step.
+TEST(LegRecovery, AimsBelowADeepGoalOnlyAsFarAsTheLegReaches) {
+  const GaitContext ctx = context();
+  const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  const int leg = 5;
+  const Eigen::Vector3d deep(2.25, 1.9, 2.4 - 2.95);
+  const RecoveryPlan plan =
+      planLegRecovery(ctx.model, s, leg, deep, [](const Eigen::Vector2d&, double) { return -1.0; });
+  ASSERT_TRUE(plan.found);
+  for (const auto& q : plan.waypoints) EXPECT_TRUE(ctx.model.withinLimits(q)) << q.vertical_m;
+  EXPECT_DOUBLE_EQ(plan.waypoints.back().vertical_m, ctx.model.vertical_max_m);
+  // Where there is room the aim is the full overshoot below the goal.
+  const Eigen::Vector3d level(2.25, 1.9, 0.0);
+  const RecoveryPlan usual =
+      planLegRecovery(ctx.model, s, leg, level, [](const Eigen::Vector2d&, double) { return 0.0; });
+  ASSERT_TRUE(usual.found);
+  EXPECT_NEAR(usual.waypoints.back().vertical_m, 2.4 + 0.1, 1e-9);
+}
+
 TEST(LegRecovery, GoesAroundWhatItCannotLiftOver) {
   const GaitContext ctx = context();
   const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
