@@ -12,7 +12,7 @@ namespace ambler::gait {
 
 namespace {
 
-// Where the circulating gait wants leg's foot (body frame): one pitch
+// Where the circulating gait wants leg's foot (world): one pitch
 // beyond the foremost foot of its stack along the motion at its shaft, at
 // the tread, pulled in to stay 0.1 m inside the reach.
 Eigen::Vector2d idealFoothold(const Stance& stance, const Heading& heading, const RoverModel& model,
@@ -32,7 +32,7 @@ Eigen::Vector2d idealFoothold(const Stance& stance, const Heading& heading, cons
   const double reach = model.extension_max_m - 0.1;
   const double along_max = std::sqrt(std::max(reach * reach - lateral * lateral, 0.0));
   const double along = std::min(front + gait.pitch_m, along_max);
-  return shaft + along * d + lateral * out;
+  return stance.body.toWorld(Eigen::Vector2d(shaft + along * d + lateral * out));
 }
 
 // Pattern constraint: how far apart, along the motion `d` (body frame), the
@@ -240,8 +240,7 @@ std::optional<footfall::CostMaps> legCostMaps(const Stance& stance, const Headin
                                               const GaitContext& ctx,
                                               const std::optional<footfall::ScannerView>& scanner,
                                               int leg, double widen) {
-  const Eigen::Vector2d ideal =
-      stance.body.toWorld(idealFoothold(stance, heading, ctx.model, ctx.gait, leg));
+  const Eigen::Vector2d ideal = idealFoothold(stance, heading, ctx.model, ctx.gait, leg);
   return costMapsAround(stance, heading, map, ctx, scanner, leg, ideal, widen);
 }
 
@@ -318,8 +317,7 @@ std::vector<LegCandidate> rankedCandidates(const Stance& stance, const Heading& 
   };
   for (double widen = 1.0; widen <= max_widen && !keepsCycle(); widen += 1.0)
     for (int leg : legs) {
-      const Eigen::Vector2d ideal =
-          stance.body.toWorld(idealFoothold(stance, heading, ctx.model, ctx.gait, leg));
+      const Eigen::Vector2d ideal = idealFoothold(stance, heading, ctx.model, ctx.gait, leg);
       if (auto c = candidateFor(stance, heading, map, ctx, scanner, leg, ideal, widen))
         out.push_back(*c);
     }

@@ -123,8 +123,12 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
   std::vector<double> plan_ms;
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const auto& s = steps[k];
-    WalkStep w{s.leg, s.foothold, s.body_u, s.plan_ms, s.planned_ahead,
-               0.0,   0.0,        0.0,      0.0,       s.event};
+    WalkStep w{.leg = s.leg,
+               .foothold = s.foothold,
+               .body_u = s.body_u,
+               .plan_ms = s.plan_ms,
+               .planned_ahead = s.planned_ahead,
+               .event = s.event};
     if (k < truth.after_body_moves.size()) {
       const gait::BodyPose& t = truth.after_body_moves[k];
       w.pose_error_m = (s.estimated.xy - t.xy).norm();
