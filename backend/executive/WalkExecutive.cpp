@@ -69,6 +69,11 @@ void WalkExecutive::start(double now_s, bool end_hold) {
 void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
   endHold(now_s);
+  if (steps_done_ >= opt_.steps) {
+    note(now_s, "resumed: the closing scan again");
+    requestClosingScan(now_s);
+    return;
+  }
   note(now_s, "resumed: scanning and planning again from the reported state");
   requestScan(now_s);
 }
@@ -98,12 +103,33 @@ void WalkExecutive::requestScan(double now_s) {
       walk_task_, TaskKind::kGoal, "step " + std::to_string(steps_done_ + 1),
       previous >= 0 && tasks_.task(previous).status == TaskStatus::kDone ? previous : -1);
   tasks_.start(step_task_, now_s);
-  scan_task_ = tasks_.add(step_task_, TaskKind::kQuery, "scan");
+  acquireScan(step_task_, "scan", now_s);
+}
+
+// After the last step: one more scan, registered and merged, so that the
+// map covers where the rover stands and the last step gets its registered
+// pose like every other.
+void WalkExecutive::requestClosingScan(double now_s) {
+  acquireScan(walk_task_, "closing scan", now_s);
+  closing_ = true;
+}
+
+void WalkExecutive::acquireScan(int parent_task, const std::string& name, double now_s) {
+  scan_task_ = tasks_.add(parent_task, TaskKind::kQuery, name);
   tasks_.start(scan_task_, now_s);
   scan_.reset();
+  scan_of_step_.reset();
+  closing_ = false;
   awaiting_ = send(link::AcquireScan{}, now_s);
   sent_s_ = now_s;
   phase_ = Phase::kScanning;
+}
+
+void WalkExecutive::closeWalk(double now_s) {
+  mapScan(*std::exchange(scan_, std::nullopt), now_s);
+  closing_ = false;
+  tasks_.finish(walk_task_, now_s);
+  phase_ = Phase::kDone;
 }
 
 void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
@@ -123,7 +149,8 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
     suspend(now_s, why.str(), true);
     return;
   }
-  if (phase_ == Phase::kScanning && scan_ && !awaiting_ && reported_) planAndPropose(now_s);
+  if (phase_ == Phase::kScanning && scan_ && !awaiting_ && reported_)
+    closing_ ? closeWalk(now_s) : planAndPropose(now_s);
   if (phase_ == Phase::kAwaitingDecision) {
     if (auto released = gate_.takeReleased()) {
       startExecuting(std::move(*released), now_s);
@@ -205,6 +232,10 @@ void WalkExecutive::mapScan(const sensor::RangeImage& scan, double now_s) {
   const GridSpec window = merge ? terrain::mergeScan(map_, placed) : GridSpec{};
   scanner_ = scan.geometry;
   work_.mapping_s += secondsSince(t0);
+  if (scan_of_step_) {
+    auto& step = step_log_[*std::exchange(scan_of_step_, std::nullopt)];
+    step.registered = correction().apply(step.reported);
+  }
   if (scan_sink_) scan_sink_(placed);
   if (product_sink_) {
     // The traverse map's grid (what a replay rebuilds) and the part merged.
@@ -495,12 +526,11 @@ void WalkExecutive::finishStep(double now_s) {
   step_log_.push_back(step_);
   executing_.reset();
   ++steps_done_;
-  if (steps_done_ >= opt_.steps) {
-    tasks_.finish(walk_task_, now_s);
-    phase_ = Phase::kDone;
-    return;
-  }
-  requestScan(now_s);
+  if (steps_done_ >= opt_.steps)
+    requestClosingScan(now_s);
+  else
+    requestScan(now_s);
+  scan_of_step_ = step_log_.size() - 1;
 }
 
 void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {

@@ -76,7 +76,11 @@ struct StepRecord {
   double plan_ms = 0.0;        // wall time of the plan it came from
   gait::BodyPose reported;     // where the rover reported its body after the step
   gait::BodyPose estimated;    // where the ground placed it: the report, corrected
-  std::string event;           // what went differently from the plan, if anything
+  // Where the scan taken after the step placed it, once registered: the
+  // ground's account of the stance it planned the next step from. Unset
+  // until that scan is mapped (the walk closes with one for its last step).
+  std::optional<gait::BodyPose> registered;
+  std::string event;  // what went differently from the plan, if anything
 };
 
 // Wall time the ground spent on a walk's perception and planning: the work
@@ -150,6 +154,9 @@ class WalkExecutive {
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
   void endHold(double now_s);
   void requestScan(double now_s);
+  void requestClosingScan(double now_s);
+  void acquireScan(int parent_task, const std::string& name, double now_s);
+  void closeWalk(double now_s);
   void mapScan(const sensor::RangeImage& scan, double now_s);
   const ScanMatch& correctPose(const sensor::RangeImage& scan, double now_s);
   // reported_ from the newest report and the correction in use.
@@ -206,6 +213,8 @@ class WalkExecutive {
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
+  std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends
+  bool closing_ = false;                         // the walk's last scan: map it, then done
   std::optional<sensor::ScanGeometry> scanner_;  // of the scans mapped so far
   double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;

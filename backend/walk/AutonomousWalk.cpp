@@ -131,9 +131,10 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
                .event = s.event};
     if (k < truth.after_body_moves.size()) {
       const gait::BodyPose& t = truth.after_body_moves[k];
-      w.pose_error_m = (s.estimated.xy - t.xy).norm();
+      const gait::BodyPose& estimate = s.registered.value_or(s.estimated);
+      w.pose_error_m = (estimate.xy - t.xy).norm();
       w.dead_reckoning_error_m = (s.reported.xy - t.xy).norm();
-      w.heading_error_rad = std::remainder(s.estimated.heading_rad - t.heading_rad, 2 * M_PI);
+      w.heading_error_rad = std::remainder(estimate.heading_rad - t.heading_rad, 2 * M_PI);
       w.dead_reckoning_heading_error_rad =
           std::remainder(s.reported.heading_rad - t.heading_rad, 2 * M_PI);
     }

@@ -57,9 +57,9 @@ struct WalkStep {
   double plan_ms = 0.0;
   bool planned_ahead = false;
   // The body's pose after the step against the truth: where the ground
-  // placed it (the rover's report, corrected by registration) and where the
-  // rover's dead reckoning alone put it; heading errors signed, estimate
-  // minus truth.
+  // placed it (the rover's report, corrected by registering the scan taken
+  // there) and where the rover's dead reckoning alone put it; heading errors
+  // signed, estimate minus truth.
   double pose_error_m = 0.0;
   double dead_reckoning_error_m = 0.0;
   double heading_error_rad = 0.0;

@@ -474,8 +474,9 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
         "plan_ms_median", "pose_error_final_m", "pose_error_max_m", "dead_reckoning_error_final_m",
         "dead_reckoning_error_max_m", "scans_registered"})
     EXPECT_TRUE(j.contains(key)) << key;
-  // The first scan has no map to be matched against.
-  EXPECT_EQ(j["scans_registered"].get<int>() + j["scans_not_registered"].get<int>(), 6);
+  // One scan before each step and the closing scan; the first has no map
+  // to be matched against.
+  EXPECT_EQ(j["scans_registered"].get<int>() + j["scans_not_registered"].get<int>(), 7);
   EXPECT_GE(j["scans_not_registered"].get<int>(), 1);
   EXPECT_EQ(j["steps"], 6);
   EXPECT_EQ(j["csp_violations"], 0);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "InstalledConfig.h"
 #include "executive/WalkExecutive.h"
 #include "rover/InProcessLink.h"
@@ -260,6 +262,30 @@ TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   EXPECT_EQ(d.link.count("LegMove") + d.link.count("BodyMove"), 0);
   EXPECT_EQ(d.executive.phase(), Phase::kAwaitingDecision);
   EXPECT_TRUE(d.gate.pending());
+}
+
+// The walk ends with one more scan, registered and merged: the map covers
+// where the rover stands and the last step, like every other, carries the
+// pose the scan taken after it gave.
+TEST(Executive, AWalkClosesWithAScanThatPlacesItsLastStep) {
+  Console c(steps(3), ground(), withoutSlips());
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone);
+  EXPECT_EQ(c.link.count("AcquireScan"), 4);
+  EXPECT_EQ(c.executive.scanMatches().size(), 4u);
+  const auto& tasks = c.executive.tasks().tasks();
+  const auto closing = std::find_if(tasks.begin(), tasks.end(),
+                                    [](const Task& t) { return t.name == "closing scan"; });
+  ASSERT_NE(closing, tasks.end());
+  EXPECT_EQ(closing->status, TaskStatus::kDone);
+  const auto& log = c.executive.stepLog();
+  ASSERT_EQ(log.size(), 3u);
+  for (const auto& step : log) ASSERT_TRUE(step.registered.has_value());
+  const gait::BodyPose placed = c.executive.correction().apply(log.back().reported);
+  EXPECT_NEAR((log.back().registered->xy - placed.xy).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(log.back().registered->heading_rad, placed.heading_rad, 1e-12);
 }
 
 // A supporting foot that slipped 5 cm during the body move leaves the rover
