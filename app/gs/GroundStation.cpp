@@ -217,6 +217,12 @@ void GroundStation::refreshTelemetry() {
     window_.telemetry()->setModuleTiming(exec.tasks().tasks(), session_start_s_, now);
   const auto age = session_->linkAgeS();
   const bool stale = !age || *age > 3.0;
+  if (const auto& lost = exec.linkLost()) {
+    window_.setLinkStatus(tr("%1: LINK LOST, walk suspended (%2)")
+                              .arg(session_->linkDescription(), QString::fromStdString(*lost)),
+                          true);
+    return;
+  }
   window_.setLinkStatus(
       age ? tr("%1: last data %2 s ago").arg(session_->linkDescription()).arg(*age, 0, 'f', 1)
           : tr("%1: no data yet").arg(session_->linkDescription()),

@@ -142,7 +142,11 @@ QString WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::strin
   command.time_s = nowS();
   command.body = grasp;
   signer_->sign(command);
-  link_->send(command);
+  try {
+    link_->send(command);
+  } catch (const link::LinkError& e) {
+    return tr("grasp approved but not sent: %1").arg(QString::fromUtf8(e.what()));
+  }
   if (!timer_.isActive()) timer_.start(50);  // for the answer
   emit changed();
   return {};

@@ -86,14 +86,23 @@ void WalkExecutive::note(double now_s, const std::string& what) {
   events_.push_back({now_s, what});
 }
 
+// A command the link cannot hand over (over DDS: no rover matched within
+// the link's wait) is lost, and so is the link until the rover is heard
+// again; poll() then stops the walk.
 std::uint64_t WalkExecutive::send(link::CommandBody body, double now_s) {
   link::Command c;
   c.rover_id = opt_.rover_id;
   c.time_s = now_s;
   c.body = std::move(body);
   signer_.sign(c);
-  link_.send(c);
   last_sent_s_ = now_s;
+  try {
+    link_.send(c);
+  } catch (const link::LinkError& e) {
+    if (!link_lost_)
+      note(now_s, "link lost: " + link::typeName(c.body) + " not sent (" + e.what() + ")");
+    link_lost_ = e.what();
+  }
   return c.sequence;
 }
 
@@ -133,15 +142,26 @@ void WalkExecutive::closeWalk(double now_s) {
 }
 
 void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
-  for (const auto& message : link_.receive(wait)) handle(message, now_s);
+  const auto messages = link_.receive(wait);
+  if (link_lost_ && !messages.empty()) {
+    note(now_s, "link back: the rover is heard again");
+    link_lost_.reset();
+  }
+  for (const auto& message : messages) handle(message, now_s);
   if (phase_ == Phase::kIdle) return;
   if (phase_ == Phase::kConnecting) {
     if (!reported_) return;
     requestScan(now_s);
   }
-  // Even when done or suspended: the rover holds when the ground falls silent.
-  if (now_s - last_sent_s_ >= opt_.heartbeat_period_s) send(link::GroundHeartbeat{}, now_s);
-  if (phase_ == Phase::kDone) return;
+  // Even when done or suspended: the rover holds when the ground falls
+  // silent. Not while the link is lost: each attempt would wait for it.
+  if (!link_lost_ && now_s - last_sent_s_ >= opt_.heartbeat_period_s)
+    send(link::GroundHeartbeat{}, now_s);
+  // Whatever was planned or under way before the outage is dropped: after
+  // it, the operator resumes and the step is scanned and planned afresh.
+  if (link_lost_ && phase_ != Phase::kSuspended && phase_ != Phase::kDone)
+    suspend(now_s, "link lost: " + *link_lost_, false);
+  if (phase_ == Phase::kDone || phase_ == Phase::kSuspended) return;
   if (awaiting_ && now_s - sent_s_ > opt_.ack_timeout_s) {
     std::ostringstream why;
     why << "no acknowledgement of command " << *awaiting_ << " within " << opt_.ack_timeout_s

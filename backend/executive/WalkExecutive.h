@@ -141,6 +141,9 @@ class WalkExecutive {
   const terrain::ElevationMap& map() const { return map_; }
   const std::vector<StepRecord>& stepLog() const { return step_log_; }
   const GroundWork& groundWork() const { return work_; }
+  // Why the link could not carry the last command, until the rover is
+  // heard again; the walk is suspended meanwhile.
+  const std::optional<std::string>& linkLost() const { return link_lost_; }
   // The correction of the rover's dead reckoning in use, and each scan's
   // match against the map, in order.
   const PoseCorrection& correction() const { return corrector_.correction(); }
@@ -209,7 +212,8 @@ class WalkExecutive {
   double sent_s_ = 0.0;
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;
-  std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
+  std::optional<std::string> link_lost_;  // why the last command could not be sent
+  std::optional<std::uint64_t> resume_;   // a Resume sent, not yet acknowledged
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)

@@ -8,8 +8,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
@@ -61,8 +63,12 @@ class SimProcess {
     }
   }
   ~SimProcess() {
-    ::kill(pid_, SIGTERM);
+    if (pid_ > 0) stop(SIGTERM);
+  }
+  void stop(int signal) {
+    ::kill(pid_, signal);
     ::waitpid(pid_, nullptr, 0);
+    pid_ = -1;
   }
 
  private:
@@ -219,6 +225,52 @@ TEST(ExecutiveOverDds, AConsoleKilledMidWalkLosesNoAcknowledgedCommandAndTheRove
     EXPECT_TRUE(traffic.commands.count(sequence)) << "command " << sequence << " lost";
     EXPECT_TRUE(traffic.acks.count(sequence)) << "ack of " << sequence << " lost";
   }
+}
+
+// The rover's process killed with SIGKILL mid-walk: the executive does not
+// throw; once the link can no longer carry a command it says so, the walk
+// is suspended and nothing pending is left to go out; when a rover is
+// heard again and the operator resumes, the step is scanned and planned
+// afresh and the walk goes on.
+TEST(ExecutiveOverDds, ARoverKilledMidWalkSuspendsTheWalkUntilHeardAgainAndResumed) {
+  TempDir dir;
+  const auto domain = testDomain();
+  auto sim = std::make_unique<SimProcess>(dir, domain, 3.0);
+  link::dds::DdsLink dds(domain, 1);
+  link::CommandSigner signer(alice());
+  ApprovalGate gate([](const missionlog::Decision&) {});
+  gate.setMode(ApprovalMode::kAutoApprove);
+  ExecutiveOptions options;
+  options.steps = 30;
+  WalkExecutive executive(dds, signer, gate, ground(), options);
+  const auto pollUntil = [&](auto done, double limit_s) {
+    const auto t0 = Clock::now();
+    while (!done() && secondsSince(t0) < limit_s) executive.poll(missionlog::groundClockS(), 50ms);
+  };
+  executive.start(missionlog::groundClockS());
+  pollUntil([&] { return executive.stepsDone() >= 2; }, 60);
+  ASSERT_GE(executive.stepsDone(), 2) << executive.events().back().what;
+
+  sim->stop(SIGKILL);
+  const int steps_before = executive.stepsDone();
+  // DDS notices a vanished participant when its lease (10 s) runs out.
+  EXPECT_NO_THROW(pollUntil([&] { return executive.linkLost().has_value(); }, 30));
+  ASSERT_TRUE(executive.linkLost().has_value());
+  executive.poll(missionlog::groundClockS(), 0ms);
+  EXPECT_EQ(executive.phase(), Phase::kSuspended);
+  EXPECT_FALSE(gate.pending());
+  const auto& events = executive.events();
+  EXPECT_TRUE(std::any_of(events.begin(), events.end(), [](const ExecutiveEvent& e) {
+    return e.what.rfind("link lost", 0) == 0;
+  }));
+
+  sim = std::make_unique<SimProcess>(dir, domain, 3.0);
+  pollUntil([&] { return !executive.linkLost(); }, 30);
+  ASSERT_FALSE(executive.linkLost()) << "the restarted rover was not heard";
+  EXPECT_EQ(executive.phase(), Phase::kSuspended);
+  executive.resume(missionlog::groundClockS());
+  pollUntil([&] { return executive.stepsDone() > steps_before; }, 60);
+  EXPECT_GT(executive.stepsDone(), steps_before) << executive.events().back().what;
 }
 
 }  // namespace
