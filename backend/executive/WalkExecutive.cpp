@@ -120,7 +120,6 @@ void WalkExecutive::requestScan(double now_s) {
 // pose like every other.
 void WalkExecutive::requestClosingScan(double now_s) {
   acquireScan(walk_task_, "closing scan", now_s);
-  closing_ = true;
 }
 
 void WalkExecutive::acquireScan(int parent_task, const std::string& name, double now_s) {
@@ -128,7 +127,6 @@ void WalkExecutive::acquireScan(int parent_task, const std::string& name, double
   tasks_.start(scan_task_, now_s);
   scan_.reset();
   scan_of_step_.reset();
-  closing_ = false;
   awaiting_ = send(link::AcquireScan{}, now_s);
   sent_s_ = now_s;
   phase_ = Phase::kScanning;
@@ -136,7 +134,6 @@ void WalkExecutive::acquireScan(int parent_task, const std::string& name, double
 
 void WalkExecutive::closeWalk(double now_s) {
   mapScan(*std::exchange(scan_, std::nullopt), now_s);
-  closing_ = false;
   tasks_.finish(walk_task_, now_s);
   phase_ = Phase::kDone;
 }
@@ -170,7 +167,7 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
     return;
   }
   if (phase_ == Phase::kScanning && scan_ && !awaiting_ && reported_)
-    closing_ ? closeWalk(now_s) : planAndPropose(now_s);
+    steps_done_ >= opt_.steps ? closeWalk(now_s) : planAndPropose(now_s);
   if (phase_ == Phase::kAwaitingDecision) {
     if (auto released = gate_.takeReleased()) {
       startExecuting(std::move(*released), now_s);

@@ -218,7 +218,6 @@ class WalkExecutive {
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends
-  bool closing_ = false;                         // the walk's last scan: map it, then done
   std::optional<sensor::ScanGeometry> scanner_;  // of the scans mapped so far
   double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;
