@@ -114,20 +114,21 @@ vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& pts
   return actor;
 }
 
-vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title) {
+vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title,
+                                                double pixel_ratio) {
   auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
   bar->SetLookupTable(table);
   bar->SetTitle(title.c_str());
   bar->SetNumberOfLabels(5);
   bar->SetLabelFormat("%.2f");
-  bar->SetMaximumWidthInPixels(90);
+  bar->SetMaximumWidthInPixels(int(90 * pixel_ratio));
   // Far enough from the right edge that the centred title is not clipped
   // in narrow views.
   bar->SetPosition(0.80, 0.1);
   bar->SetPosition2(0.17, 0.8);
-  bar->GetTitleTextProperty()->SetFontSize(14);
+  bar->GetTitleTextProperty()->SetFontSize(int(14 * pixel_ratio));
   bar->GetTitleTextProperty()->ItalicOff();
-  bar->GetLabelTextProperty()->SetFontSize(12);
+  bar->GetLabelTextProperty()->SetFontSize(int(12 * pixel_ratio));
   bar->GetLabelTextProperty()->ItalicOff();
   bar->UnconstrainedFontSizeOn();
   return bar;

@@ -43,7 +43,10 @@ vtkSmartPointer<vtkActor> makeSphere(const Eigen::Vector3d& centre, double radiu
                                      const Eigen::Vector3d& rgb);
 
 // A vertical colour bar for `table` whose title carries the unit, e.g.
-// "Elevation [m]".
-vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title);
+// "Elevation [m]" (a "\n" breaks a long one); `pixel_ratio` is the
+// screen's device pixels per logical pixel, so the bar keeps its size on
+// a high-density screen.
+vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title,
+                                                double pixel_ratio = 1.0);
 
 }  // namespace ambler::rendering

@@ -128,13 +128,14 @@ DangerPanel::DangerPanel(QWidget* parent)
   auto* open = new QPushButton(tr("Open camera image…"));
   auto* bar = new QHBoxLayout;
   bar->addWidget(open);
-  bar->addWidget(new QLabel(tr("Camera: %1 rows, axis %2° from the vertical, %3° field of view, "
+  auto* camera = new QLabel(tr("Camera: %1 rows, axis %2° from the vertical, %3° field of view, "
                                "%4 m up (config/camera.json)")
                                 .arg(camera_.camera.rows)
                                 .arg(camera_.camera.alpha_deg)
                                 .arg(camera_.camera.beta_deg)
-                                .arg(camera_.camera.height_m)));
-  bar->addStretch();
+                                .arg(camera_.camera.height_m));
+  camera->setWordWrap(true);
+  bar->addWidget(camera, 1);
   readout_->setWordWrap(true);
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(bar);

@@ -11,12 +11,14 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
+#include <QScreen>
 #include <QSettings>
 #include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QTabWidget>
 #include <QToolBar>
+#include <utility>
 
 #include "terrain/ElevationMapFile.h"
 #include "widgets/CommandLogView.h"
@@ -96,6 +98,9 @@ MainWindow::MainWindow(QWidget* parent)
           "padding: 2px 14px; }");
   connect(hold_action_, &QAction::triggered, this, &MainWindow::holdRequested);
 
+  // The approval dock keeps the window's whole height: Approve and Reject
+  // stay in view on a 768-pixel screen with the telemetry open.
+  setCorner(Qt::BottomRightCorner, Qt::RightDockWidgetArea);
   addDock(tr("Step approval"), "step-approval-dock", approval_, Qt::RightDockWidgetArea);
   auto* telemetry =
       addDock(tr("Telemetry"), "telemetry-dock", telemetry_, Qt::BottomDockWidgetArea);
@@ -125,11 +130,37 @@ MainWindow::MainWindow(QWidget* parent)
   connect(range_view_, &RangeImageView::readoutChanged, this, readout);
   connect(map_view_, &MapView::readoutChanged, this, readout);
 
+  default_state_ = saveState();
   QSettings settings;
-  restoreGeometry(settings.value("main/geometry").toByteArray());
   restoreState(settings.value("main/state").toByteArray());
-  if (!settings.contains("main/geometry")) resize(1400, 900);
+  saved_geometry_ = settings.value("main/geometry").toByteArray();
   timeline_bar_->hide();  // until a log is opened, whatever was saved
+}
+
+void MainWindow::showEvent(QShowEvent* e) {
+  QMainWindow::showEvent(e);
+  if (std::exchange(placed_, true)) return;
+  // Where the operator left it, unless that does not fit this screen (a
+  // layout saved on a larger monitor).
+  if (!restoreGeometry(saved_geometry_) || !screen()->availableGeometry().contains(frameGeometry()))
+    fitToScreen();
+}
+
+void MainWindow::fitToScreen() {
+  const QRect available = screen()->availableGeometry();
+  const QSize preferred(1600, 1000);
+  // The frame (title bar, borders) comes on top of the size given.
+  const QSize frame = frameGeometry().size() - geometry().size();
+  const QSize size = preferred.boundedTo(available.size() - frame);
+  resize(size);
+  move(available.topLeft() + QPoint((available.width() - size.width() - frame.width()) / 2,
+                                    (available.height() - size.height() - frame.height()) / 2));
+}
+
+void MainWindow::resetLayout() {
+  restoreState(default_state_);
+  timeline_bar_->setVisible(replaying_);
+  fitToScreen();
 }
 
 QDockWidget* MainWindow::addDock(const QString& title, const QString& name, QWidget* widget,
@@ -176,12 +207,16 @@ void MainWindow::addMenus() {
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
   auto* view = menuBar()->addMenu(tr("&View"));
   for (auto* dock : findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
+  view->addSeparator();
+  view->addAction(tr("&Reset layout"), this, &MainWindow::resetLayout)
+      ->setToolTip(tr("Every dock back in its place, the window fitted to this screen"));
 }
 
 void MainWindow::setReplay(const QString& what) {
   setWindowTitle(what.isEmpty() ? tr("Ambler Ground Station")
                                 : tr("Ambler Ground Station — replay of %1").arg(what));
-  timeline_bar_->setVisible(!what.isEmpty());
+  replaying_ = !what.isEmpty();
+  timeline_bar_->setVisible(replaying_);
   approval_->setEnabled(what.isEmpty());
   walk_action_->setEnabled(what.isEmpty());
   hold_action_->setEnabled(what.isEmpty());

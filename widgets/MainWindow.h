@@ -88,6 +88,7 @@ class MainWindow : public QMainWindow {
 
  protected:
   void closeEvent(QCloseEvent* e) override;
+  void showEvent(QShowEvent* e) override;
 
  private:
   RangeImageView* range_view_;
@@ -111,7 +112,15 @@ class MainWindow : public QMainWindow {
   TimelineBar* timeline_;
   class QToolBar* timeline_bar_;
 
+  QByteArray default_state_;   // the docks as built, for View > Reset layout
+  QByteArray saved_geometry_;  // where the operator left the window
+  bool placed_ = false;        // placed on its screen at the first show
+  bool replaying_ = false;
+
   void addMenus();
+  // Inside the screen's available area, at most 1600 x 1000, centred.
+  void fitToScreen();
+  void resetLayout();
   class QDockWidget* addDock(const QString& title, const QString& name, QWidget* widget,
                              Qt::DockWidgetArea area);
 };

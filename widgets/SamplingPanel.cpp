@@ -144,7 +144,7 @@ SamplingPanel::SamplingPanel(QWidget* parent)
       view_(new StriperView),
       points_view_(new rendering::VtkView),
       seed_box_(new QSpinBox),
-      robust_(new QCheckBox(tr("Robust fit (ignores stray points)"))),
+      robust_(new QCheckBox(tr("Robust fit"))),
       show_features_(new QCheckBox(tr("Show features"))),
       info_(new QLabel),
       approve_(new QPushButton(tr("&Approve grasp"))),
@@ -153,6 +153,7 @@ SamplingPanel::SamplingPanel(QWidget* parent)
   view_->setMouseTracking(true);
   view_->setToolTip(tr("Click inside a rock to outline and fit it"));
   robust_->setChecked(true);
+  robust_->setToolTip(tr("Fit the superquadric with a robust loss that ignores stray points"));
   show_features_->setChecked(true);
   seed_box_->setRange(1, 999999);
   seed_box_->setToolTip(tr("Seed of the simulated sampling tray"));

@@ -42,6 +42,11 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
       auto_approve_(new QCheckBox(tr("Auto-appro&ve steps that pass every interlock"), this)) {
   banner_->setAlignment(Qt::AlignCenter);
   banner_->setMargin(4);
+  // Wrapped, so that no text widens the dock under the operator's hand.
+  banner_->setWordWrap(true);
+  phase_->setWordWrap(true);
+  summary_->setWordWrap(true);
+  auto_approve_->setToolTip(auto_approve_->text().remove('&'));
   summary_->setTextFormat(Qt::RichText);
   interlocks_->setHorizontalHeaderLabels({tr("Interlock"), tr("Result"), tr("Figures")});
   interlocks_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::ResizeToContents);

@@ -46,23 +46,27 @@ QChartView* makeChartView(const QString& title) {
   return view;
 }
 
-QValueAxis* timeAxis(double span_s) {
+// The chart's axes are made once: rebuilding them at each refresh leaves
+// stale tick labels on screen, or none at all.
+void addAxes(QChart* chart, QAbstractAxis* y) {
+  auto* x = new QValueAxis;
+  x->setTitleText(QObject::tr("Time since start [s]"));
+  chart->addAxis(x, Qt::AlignBottom);
+  chart->addAxis(y, Qt::AlignLeft);
+}
+
+QValueAxis* valueAxis(const QString& title) {
   auto* axis = new QValueAxis;
-  axis->setTitleText(QObject::tr("Time since start [s]"));
-  axis->setRange(0, std::max(span_s, 1.0));
-  axis->setLabelFormat(span_s < 10 ? "%.1f" : "%.0f");
+  axis->setTitleText(title);
   return axis;
 }
 
-// Clears the chart and gives it a fresh time axis.
+// Clears the chart's series and spans its time axis over `span_s`.
 QValueAxis* resetChart(QChart* chart, double span_s) {
   chart->removeAllSeries();
-  for (auto* axis : chart->axes()) {
-    chart->removeAxis(axis);
-    delete axis;
-  }
-  auto* x = timeAxis(span_s);
-  chart->addAxis(x, Qt::AlignBottom);
+  auto* x = qobject_cast<QValueAxis*>(chart->axes(Qt::Horizontal).front());
+  x->setRange(0, std::max(span_s, 1.0));
+  x->setLabelFormat(span_s < 10 ? "%.1f" : "%.0f");
   return x;
 }
 
@@ -71,11 +75,9 @@ constexpr const char* kCursorName = "cursor";
 // One line per leg of `value(sample, leg)` over time, the y axis padded by `pad`.
 template <typename Value>
 void plotPerLeg(QChart* chart, const std::vector<executive::RoverSample>& history, double t0,
-                const QString& y_title, double pad, Value value) {
+                double pad, Value value) {
   auto* x = resetChart(chart, history.empty() ? 1.0 : history.back().time_s - t0);
-  auto* y = new QValueAxis;
-  y->setTitleText(y_title);
-  chart->addAxis(y, Qt::AlignLeft);
+  auto* y = qobject_cast<QValueAxis*>(chart->axes(Qt::Vertical).front());
   double lo = INFINITY, hi = -INFINITY;
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
     auto* series = new QLineSeries;
@@ -111,6 +113,15 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   legs_->verticalHeader()->setDefaultSectionSize(22);
   legs_->setFixedHeight(legs_->horizontalHeader()->sizeHint().height() + gait::kLegCount * 22 +
                         2 * legs_->frameWidth());
+  auto* lanes = new QCategoryAxis;
+  lanes->setRange(-0.5, double(kLanes.size()) - 0.5);
+  lanes->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
+  // Categories must be appended bottom up; the first lane is on top.
+  for (std::size_t lane = kLanes.size(); lane-- > 0;)
+    lanes->append(kLanes[lane].name, double(kLanes.size() - 1 - lane));
+  addAxes(timing_view_->chart(), lanes);
+  addAxes(feet_view_->chart(), valueAxis(tr("Foot z [m]")));
+  addAxes(loads_view_->chart(), valueAxis(tr("Load [kN]")));
   auto* plots = new QTabWidget;
   plots->addTab(timing_view_, tr("Module timing"));
   plots->addTab(feet_view_, tr("Foot heights"));
@@ -165,13 +176,7 @@ void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, 
                                      double now_s) {
   QChart* chart = timing_view_->chart();
   auto* x = resetChart(chart, now_s - t0);
-  auto* y = new QCategoryAxis;
-  y->setRange(-0.5, double(kLanes.size()) - 0.5);
-  y->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
-  chart->addAxis(y, Qt::AlignLeft);
-  // Categories must be appended bottom up; the first lane is on top.
-  for (std::size_t lane = kLanes.size(); lane-- > 0;)
-    y->append(kLanes[lane].name, double(kLanes.size() - 1 - lane));
+  auto* y = chart->axes(Qt::Vertical).front();
   for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
     const double base = double(kLanes.size() - 1 - lane);
     // An area series does not own its lines: they are its children, so
@@ -201,9 +206,9 @@ void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, 
 }
 
 void TelemetryPanel::setHistory(const std::vector<executive::RoverSample>& history, double t0) {
-  plotPerLeg(feet_view_->chart(), history, t0, tr("Foot z [m]"), 0.05,
+  plotPerLeg(feet_view_->chart(), history, t0, 0.05,
              [](const auto& s, int leg) { return s.stance.feet[std::size_t(leg)].z(); });
-  plotPerLeg(loads_view_->chart(), history, t0, tr("Load [kN]"), 1.0,
+  plotPerLeg(loads_view_->chart(), history, t0, 1.0,
              [](const auto& s, int leg) { return s.force_n[std::size_t(leg)] / 1000.0; });
 }
 

@@ -23,9 +23,11 @@ TerrainView::TerrainView(QWidget* parent)
       view_(new rendering::VtkView(this)),
       show_points_(new QCheckBox(this)),
       show_mesh_(new QCheckBox(this)) {
-  show_points_->setText(tr("Show scan points (world frame; a walk's registered scans in colour)"));
+  show_points_->setText(tr("Scan points"));
+  show_points_->setToolTip(
+      tr("Scan points in the world frame; a walk's registered scans in colour"));
   show_points_->setChecked(true);
-  show_mesh_->setText(tr("Show terrain mesh and path"));
+  show_mesh_->setText(tr("Terrain mesh and path"));
   show_mesh_->setChecked(true);
   auto* options = new QHBoxLayout;
   options->addWidget(show_points_);
@@ -208,8 +210,8 @@ void TerrainView::rebuild() {
   } else {
     renderer->AddActor(rendering::makeHeightSurface(grid, ground, table));
   }
-  renderer->AddActor2D(
-      rendering::makeColorBar(table, map_ground_ ? "Map elevation [m]" : "Elevation [m]"));
+  renderer->AddActor2D(rendering::makeColorBar(
+      table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]", devicePixelRatioF()));
 
   if (display_ && show_points_->isChecked()) {
     const auto& scan = display_->scan;
