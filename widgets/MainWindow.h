@@ -37,6 +37,7 @@ class MainWindow : public QMainWindow {
   void setBusy(const QString& what);  // empty: idle
   // The status bar's message, until the next one.
   void setStatus(const QString& text);
+  const QString& statusText() const { return status_text_; }
   quint64 seed() const;
   void setSeed(quint64 seed);
 
@@ -72,7 +73,7 @@ class MainWindow : public QMainWindow {
   QString exportMapLayers(const QString& dir) const;
   QString exportPlots(const QString& dir) const;
   QString exportTable(const QString& file) const;
-  // Brings the terrain map to the front (a walk started).
+  // Brings the terrain map to the front (a replay opened).
   void showMapView();
   // "simulator in this process: last data 0.4 s ago"; stale shows in red.
   void setLinkStatus(const QString& text, bool stale);

@@ -35,16 +35,24 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
     : QWidget(parent),
       banner_(new QLabel(this)),
       phase_(new QLabel(this)),
+      why_(new QLabel(this)),
       summary_(new QLabel(this)),
       interlocks_(new QTableWidget(0, 3, this)),
       approve_(new QPushButton(tr("&Approve"), this)),
       reject_(new QPushButton(tr("&Reject"), this)),
+      resume_(new QPushButton(tr("Re&sume walk"), this)),
       auto_approve_(new QCheckBox(tr("Auto-appro&ve steps that pass every interlock"), this)) {
   banner_->setAlignment(Qt::AlignCenter);
   banner_->setMargin(4);
   // Wrapped, so that no text widens the dock under the operator's hand.
   banner_->setWordWrap(true);
   phase_->setWordWrap(true);
+  why_->setWordWrap(true);
+  // Room for a two-line reason kept whether or not there is one, so that
+  // nothing below moves when a walk stops.
+  why_->setMinimumHeight(2 * why_->fontMetrics().lineSpacing());
+  why_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  why_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   summary_->setWordWrap(true);
   auto_approve_->setToolTip(auto_approve_->text().remove('&'));
   summary_->setTextFormat(Qt::RichText);
@@ -61,13 +69,19 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
   reject_->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Backspace));
   approve_->setToolTip(tr("Send the step's moves to the rover (Ctrl+Return)"));
   reject_->setToolTip(tr("Send nothing; the walk is suspended (Ctrl+Backspace)"));
+  resume_->setToolTip(
+      tr("End the rover's hold, scan again and plan the next step afresh from where it stands"));
 
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(approve_);
   buttons->addWidget(reject_);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(banner_);
-  layout->addWidget(phase_);
+  auto* walk = new QHBoxLayout;
+  walk->addWidget(phase_, 1);
+  walk->addWidget(resume_);
+  layout->addLayout(walk);
+  layout->addWidget(why_);
   layout->addWidget(summary_);
   layout->addWidget(interlocks_, 1);
   layout->addLayout(buttons);
@@ -79,11 +93,14 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
   connect(reject_, &QPushButton::clicked, this, [this] {
     if (shown_) emit rejectRequested(*shown_);
   });
+  connect(resume_, &QPushButton::clicked, this, &StepApprovalPanel::resumeRequested);
   connect(auto_approve_, &QCheckBox::toggled, this, [this](bool on) {
     setAutoApprove(on);
     emit autoApproveChanged(on);
   });
   setAutoApprove(false);
+  setPhase(tr("idle"));
+  setResumable(false);
   showProposal(std::nullopt);
 }
 
@@ -96,9 +113,13 @@ void StepApprovalPanel::setAutoApprove(bool on) {
                             : "background:#2e7d32;color:white");
 }
 
-void StepApprovalPanel::setPhase(const QString& phase) {
-  phase_->setText(tr("Walk: %1").arg(phase));
+void StepApprovalPanel::setPhase(const QString& phase, const QString& why, bool alarm) {
+  phase_->setText(tr("Walk: <b>%1</b>").arg(phase.toHtmlEscaped()));
+  why_->setText(why.isEmpty() ? why : why.front().toUpper() + why.mid(1));
+  why_->setStyleSheet(alarm ? "color:#b71c1c;font-weight:bold" : "");
 }
+
+void StepApprovalPanel::setResumable(bool on) { resume_->setEnabled(on); }
 
 void StepApprovalPanel::showProposal(const std::optional<executive::StepProposal>& proposal) {
   shown_.reset();

@@ -15,7 +15,8 @@ namespace ambler::widgets {
 // The step waiting for the operator (issue 7): leg, foothold, body advance,
 // stability margin and every interlock with its figures, with Approve and
 // Reject and the auto-approve switch, which turns the panel's banner red
-// while it is on. It shows what it is given and says what the operator
+// while it is on; above them what the walk is doing and, when it stopped,
+// why, with Resume. It shows what it is given and says what the operator
 // decided; the executive does the rest.
 class StepApprovalPanel : public QWidget {
   Q_OBJECT
@@ -25,12 +26,18 @@ class StepApprovalPanel : public QWidget {
 
   // Nothing: no step is waiting; the buttons are disabled.
   void showProposal(const std::optional<executive::StepProposal>& proposal);
-  // What the walk is doing ("waiting for the rover", "executing", ...).
-  void setPhase(const QString& phase);
+  // What the walk is doing ("awaiting decision", "suspended", ...) and, when
+  // it has stopped, why, in a sentence; `alarm` shows it in red.
+  void setPhase(const QString& phase, const QString& why = {}, bool alarm = false);
+  // Whether Resume can restart a stopped walk.
+  void setResumable(bool on);
   void setAutoApprove(bool on);
 
   QPushButton* approveButton() const { return approve_; }
   QPushButton* rejectButton() const { return reject_; }
+  QPushButton* resumeButton() const { return resume_; }
+  QLabel* phaseLabel() const { return phase_; }
+  QLabel* reasonLabel() const { return why_; }
   QCheckBox* autoApproveSwitch() const { return auto_approve_; }
   QTableWidget* interlockTable() const { return interlocks_; }
   QLabel* banner() const { return banner_; }
@@ -38,16 +45,19 @@ class StepApprovalPanel : public QWidget {
  signals:
   void approveRequested(quint64 proposal);
   void rejectRequested(quint64 proposal);
+  void resumeRequested();
   void autoApproveChanged(bool on);
 
  private:
   std::optional<quint64> shown_;
   QLabel* banner_;
   QLabel* phase_;
+  QLabel* why_;
   QLabel* summary_;
   QTableWidget* interlocks_;
   QPushButton* approve_;
   QPushButton* reject_;
+  QPushButton* resume_;
   QCheckBox* auto_approve_;
 };
 

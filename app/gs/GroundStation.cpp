@@ -77,11 +77,12 @@ void GroundStation::wireWindow() {
             if (timeline_) return sampling->setGraspAnswer(tr("a replay cannot command"), false);
             if (!session_ && !openSession().isEmpty()) return;
             const auto why = session_->sendGrasp(plan, fit.toStdString());
-            sampling->setGraspAnswer(why.isEmpty() ? tr("Grasp sent, signed by %1 and logged; "
-                                                        "its answer is in Events and commands")
-                                                         .arg(options_.operator_id)
-                                                   : tr("Not sent: %1").arg(why),
-                                     why.isEmpty());
+            sampling->setGraspAnswer(
+                why.isEmpty()
+                    ? tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
+                          .arg(options_.operator_id)
+                    : tr("Not sent: %1").arg(why),
+                why.isEmpty());
           });
 
   auto* panel = window_.approvalPanel();
@@ -97,6 +98,9 @@ void GroundStation::wireWindow() {
   });
   connect(panel, &widgets::StepApprovalPanel::rejectRequested, this, [this](quint64 id) {
     if (session_) session_->reject(id, tr("rejected by %1").arg(options_.operator_id));
+  });
+  connect(panel, &widgets::StepApprovalPanel::resumeRequested, this, [this] {
+    if (session_ && !timeline_) session_->resume();
   });
   connect(panel, &widgets::StepApprovalPanel::autoApproveChanged, this, [this](bool on) {
     if (session_) session_->setAutoApprove(on);
@@ -155,6 +159,15 @@ QString GroundStation::openSession() {
     return why;
   }
   connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
+  connect(session_.get(), &WalkSession::eventNoted, this,
+          [this](const QString& what) { window_.setStatus(tr("Walk: %1").arg(what)); });
+  connect(session_.get(), &WalkSession::graspAnswered, this,
+          [this](bool accepted, const QString& reason) {
+            window_.samplingPanel()->setGraspAnswer(
+                accepted ? tr("The rover accepted the grasp")
+                         : tr("The rover refused the grasp: %1").arg(reason),
+                accepted);
+          });
   connect(session_.get(), &WalkSession::scanMapped, window_.meshPanel(),
           &widgets::TerrainMeshPanel::addWalkScan);
   // The switch the operator sees decides, whenever the session was made.
@@ -171,7 +184,6 @@ void GroundStation::startWalk(int steps) {
     connectTo(choice_.source == widgets::ConnectChoice::Source::kLog ? widgets::ConnectChoice{}
                                                                      : choice_);
   if (!session_ && !openSession().isEmpty()) return;
-  window_.showMapView();
   session_start_s_ = missionlog::groundClockS();
   history_.clear();
   window_.meshPanel()->clearWalkScans();
@@ -182,7 +194,7 @@ void GroundStation::showSession() {
   if (!session_ || timeline_) return;
   const auto& exec = session_->executive();
   auto* panel = window_.approvalPanel();
-  panel->setPhase(QString::fromStdString(phaseName(exec.phase())));
+  showWalkState();
   panel->showProposal(session_->pending());
   window_.mapView()->setMap(exec.map());
   window_.mapView()->setProposal(session_->pending());
@@ -192,6 +204,23 @@ void GroundStation::showSession() {
   window_.commandLog()->setRows(session_->commandRows());
   refreshTelemetry();
   if (session_->pending()) emit proposalShown();
+}
+
+// What the walk is doing, and when it has stopped, why (a hold, a
+// rejection, no step to propose, the link lost) in the executive's words.
+void GroundStation::showWalkState() {
+  const auto& exec = session_->executive();
+  const auto phase = exec.phase();
+  QString text = QString::fromStdString(phaseName(phase));
+  if (!exec.roverHolding().empty())
+    text += tr("; the rover HOLDS (%1)").arg(QString::fromStdString(exec.roverHolding()));
+  const bool stopped = phase == executive::Phase::kSuspended;
+  QString why;
+  if (stopped) why = QString::fromStdString(exec.suspendedBecause());
+  if (phase == executive::Phase::kDone) why = tr("%1 step(s) walked").arg(exec.stepsDone());
+  if (stopped && exec.linkLost()) why += tr("; Resume once the rover is heard again");
+  window_.approvalPanel()->setPhase(text, why, stopped);
+  window_.approvalPanel()->setResumable(stopped && !exec.linkLost());
 }
 
 // Between changes of phase the rover still moves: its pose, legs and the

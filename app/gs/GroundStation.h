@@ -61,6 +61,7 @@ class GroundStation : public QObject {
   void wireWindow();
   QString openSession();  // over choice_; empty, or why not
   void showSession();
+  void showWalkState();
   void refreshTelemetry();
   void showReplayAt(double time_s);
   void finishOpening();

@@ -1,6 +1,7 @@
 #include "app/gs/WalkSession.h"
 
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "link/Limits.h"
@@ -64,6 +65,11 @@ void WalkSession::makeExecutive(const executive::ExecutiveOptions& options) {
     log_.recordProduct(t, kind, parameters);
   });
   executive_->onScanMapped([this](const sensor::RangeImage& scan) { emit scanMapped(scan); });
+  executive_->onEvent([this](const executive::ExecutiveEvent& e) {
+    log_.recordProduct(e.time_s, "event", nlohmann::json{{"what", e.what}}.dump());
+    table_.noted(e.time_s, e.what);
+    emit eventNoted(QString::fromStdString(e.what));
+  });
 }
 
 void WalkSession::start(int steps) {
@@ -86,6 +92,16 @@ void WalkSession::poll() {
     last_rows_ = table_.rows().size();
     emit changed();
   }
+  answerGrasp();  // an answer fills its row in place
+}
+
+void WalkSession::answerGrasp() {
+  if (!grasp_row_ || *grasp_row_ >= table_.rows().size()) return;
+  const auto& row = table_.rows()[*grasp_row_];
+  if (row.outcome != "accepted" && row.outcome != "refused") return;
+  grasp_row_.reset();
+  emit graspAnswered(row.outcome == "accepted", QString::fromStdString(row.reason));
+  emit changed();  // the table shows the answer
 }
 
 QString WalkSession::approve(quint64 proposal) {
@@ -110,6 +126,12 @@ QString WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
 void WalkSession::hold() {
   executive_->hold(nowS(), operator_id_.toStdString());
   if (!timer_.isActive()) timer_.start(50);  // for the rover's answer
+  emit changed();
+}
+
+void WalkSession::resume() {
+  executive_->resume(nowS());
+  if (!timer_.isActive()) timer_.start(50);
   emit changed();
 }
 
@@ -142,9 +164,11 @@ QString WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::strin
   command.time_s = nowS();
   command.body = grasp;
   signer_->sign(command);
+  grasp_row_ = table_.rows().size();  // the row the send is about to add
   try {
     link_->send(command);
   } catch (const link::LinkError& e) {
+    grasp_row_.reset();
     return tr("grasp approved but not sent: %1").arg(QString::fromUtf8(e.what()));
   }
   if (!timer_.isActive()) timer_.start(50);  // for the answer

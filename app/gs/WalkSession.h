@@ -54,6 +54,9 @@ class WalkSession : public QObject {
   void setAutoApprove(bool on);
   // The operator's Hold: sent signed at once (WalkExecutive::hold).
   void hold();
+  // After a stop (a hold, a rejection, a suspension): the rover's hold is
+  // ended and the walk scans and plans again (WalkExecutive::resume).
+  void resume();
   // The operator approved this grasp (`detail`: JSON of the fit behind it):
   // checked against the rover's limits, logged, signed and sent. Refused
   // while a walk is under way. Empty when sent, else why not.
@@ -71,9 +74,14 @@ class WalkSession : public QObject {
   void changed();
   // A scan the executive has mapped (dead-reckoned pose); same thread.
   void scanMapped(const ambler::sensor::RangeImage& scan);
+  // An event of the walk, in a sentence (also logged and in the table).
+  void eventNoted(const QString& what);
+  // The rover answered the last grasp sent: accepted, or refused and why.
+  void graspAnswered(bool accepted, const QString& reason);
 
  private:
   void poll();
+  void answerGrasp();
   void makeExecutive(const executive::ExecutiveOptions& options);
   double nowS() const;
 
@@ -90,6 +98,7 @@ class WalkSession : public QObject {
   std::unique_ptr<executive::WalkExecutive> executive_;
   QTimer timer_;
   QString operator_id_;
+  std::optional<std::size_t> grasp_row_;  // the last grasp's row, until answered
   std::optional<quint64> last_pending_;
   std::size_t last_rows_ = 0;
   executive::Phase last_phase_ = executive::Phase::kIdle;

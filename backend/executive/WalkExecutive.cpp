@@ -84,6 +84,7 @@ void WalkExecutive::hold(double now_s, const std::string& operator_id) {
 
 void WalkExecutive::note(double now_s, const std::string& what) {
   events_.push_back({now_s, what});
+  if (event_sink_) event_sink_(events_.back());
 }
 
 // A command the link cannot hand over (over DDS: no rover matched within
@@ -552,7 +553,8 @@ void WalkExecutive::finishStep(double now_s) {
 
 void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
   if (hold) send(link::Hold{}, now_s);  // not awaited: the rover stops whatever it hears next
-  note(now_s, (hold ? "Hold sent, step suspended: " : "step suspended: ") + why);
+  suspended_because_ = (hold ? "Hold sent, step suspended: " : "step suspended: ") + why;
+  note(now_s, suspended_because_);
   if (step_task_ >= 0 && tasks_.task(step_task_).status == TaskStatus::kActive)
     tasks_.suspend(step_task_, now_s, why);
   executing_.reset();

@@ -108,6 +108,9 @@ class WalkExecutive {
   void onScanMapped(std::function<void(const sensor::RangeImage&)> sink) {
     scan_sink_ = std::move(sink);
   }
+  // Each event as it is noted (a stop and its reason, a refusal, the link
+  // lost and back), for the log and the operator.
+  void onEvent(std::function<void(const ExecutiveEvent&)> sink) { event_sink_ = std::move(sink); }
 
   // The walk goal: asks for a first scan once the rover's state has come
   // (the link works); with `end_hold`, ends a hold the rover may be in
@@ -144,6 +147,9 @@ class WalkExecutive {
   // Why the link could not carry the last command, until the rover is
   // heard again; the walk is suspended meanwhile.
   const std::optional<std::string>& linkLost() const { return link_lost_; }
+  // Why the walk was last suspended, in a sentence (meaningful while
+  // phase() is kSuspended).
+  const std::string& suspendedBecause() const { return suspended_because_; }
   // The correction of the rover's dead reckoning in use, and each scan's
   // match against the map, in order.
   const PoseCorrection& correction() const { return corrector_.correction(); }
@@ -213,7 +219,8 @@ class WalkExecutive {
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;
   std::optional<std::string> link_lost_;  // why the last command could not be sent
-  std::optional<std::uint64_t> resume_;   // a Resume sent, not yet acknowledged
+  std::string suspended_because_;
+  std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
   bool move_acked_ = false, state_fresh_ = false;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
@@ -222,6 +229,7 @@ class WalkExecutive {
   double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;
   std::function<void(const sensor::RangeImage&)> scan_sink_;
+  std::function<void(const ExecutiveEvent&)> event_sink_;
   int walk_task_ = -1, step_task_ = -1, scan_task_ = -1, plan_task_ = -1, approval_task_ = -1;
   std::vector<int> command_tasks_;
 };

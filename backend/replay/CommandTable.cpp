@@ -1,7 +1,10 @@
 #include "replay/CommandTable.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 namespace ambler::replay {
 
@@ -64,7 +67,85 @@ void CommandTable::decided(const missionlog::Decision& d) {
   const bool grasp = d.detail.rfind("{\"grasp\"", 0) == 0;
   rows_.push_back({d.time_s, d.operator_id,
                    verdict + (grasp ? " grasp" : " proposal " + std::to_string(d.proposal)),
-                   verdict, d.detail});
+                   verdict, describeDecision(d.detail)});
+}
+
+void CommandTable::noted(double time_s, const std::string& what) {
+  rows_.push_back({time_s, "ground", what, "", ""});
+}
+
+namespace {
+
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+// "(1.20, 3.40, -0.05) m" from a JSON array, or from a "1.2,3.4,-0.05" string.
+std::string triple(const nlohmann::json& j) {
+  std::vector<double> v;
+  if (j.is_array()) {
+    for (const auto& x : j)
+      if (x.is_number()) v.push_back(x.get<double>());
+  } else if (j.is_string()) {
+    std::istringstream in(j.get<std::string>());
+    for (std::string part; std::getline(in, part, ',');) {
+      try {
+        v.push_back(std::stod(part));
+      } catch (const std::exception&) {
+        return j.get<std::string>();
+      }
+    }
+  }
+  if (v.size() != 3) return j.dump();
+  return "(" + fixed(v[0], 2) + ", " + fixed(v[1], 2) + ", " + fixed(v[2], 2) + ") m";
+}
+
+std::string describeGrasp(const nlohmann::json& fit) {
+  std::vector<std::string> parts;
+  if (fit.contains("centre_m")) parts.push_back("rock at " + triple(fit["centre_m"]));
+  if (fit.contains("size_m")) parts.push_back("size " + triple(fit["size_m"]));
+  if (fit.contains("rms_m") && fit["rms_m"].is_number())
+    parts.push_back("fit rms " + fixed(fit["rms_m"].get<double>() * 1000.0, 1) + " mm");
+  if (fit.contains("points") && fit["points"].is_number())
+    parts.push_back(std::to_string(fit["points"].get<long>()) + " points");
+  std::string out;
+  for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
+  return out;
+}
+
+}  // namespace
+
+std::string describeDecision(const std::string& detail) {
+  const auto j = nlohmann::json::parse(detail, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return detail;
+  if (j.contains("grasp") && j["grasp"].is_object()) return describeGrasp(j["grasp"]);
+  std::vector<std::string> parts;
+  const auto number = [&](const char* key) {
+    return j.contains(key) && j[key].is_number() ? std::optional(j[key].get<double>())
+                                                 : std::nullopt;
+  };
+  if (const auto leg = number("leg"); leg && *leg >= 0)
+    parts.push_back("leg " + std::to_string(int(*leg)) +
+                    (j.contains("foothold_m") ? " to " + triple(j["foothold_m"]) : ""));
+  else if (leg)
+    parts.push_back("body move only");
+  if (const auto u = number("body_advance")) parts.push_back("body advance " + fixed(*u, 2) + " m");
+  if (const auto m = number("min_csp_margin_m"))
+    parts.push_back("least stability margin " + fixed(*m, 2) + " m");
+  if (j.contains("interlocks") && j["interlocks"].is_string()) {
+    const auto interlocks = j["interlocks"].get<std::string>();
+    parts.push_back(interlocks == "passed" ? "interlocks passed"
+                                           : "interlock failed: " + interlocks);
+  }
+  std::string out;
+  for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
+  if (j.contains("reason") && j["reason"].is_string())
+    out += (out.empty() ? "" : "; ") + ("reason: " + j["reason"].get<std::string>());
+  return out.empty() ? detail : out;
 }
 
 }  // namespace ambler::replay

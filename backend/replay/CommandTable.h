@@ -10,10 +10,11 @@
 namespace ambler::replay {
 
 // One line of the event and command table: a command and what the rover
-// answered, an operator's decision, or a change in the rover's hold.
+// answered, an operator's decision, a change in the rover's hold, or an
+// event of the ground's walk (a stop and why, the link lost and back).
 struct LogRow {
   double time_s = 0.0;
-  std::string who;      // operator id, or "rover"
+  std::string who;      // operator id, "rover", or "ground" for the walk's events
   std::string what;     // "LegMove leg 2, 3 waypoints", "approved proposal 4", ...
   std::string outcome;  // "accepted", "refused", "no answer", a verdict, ...
   std::string reason;   // why refused, what was decided
@@ -27,6 +28,8 @@ class CommandTable {
   void sent(double time_s, const link::Command& command);
   void received(double time_s, const link::Telemetry& message);
   void decided(const missionlog::Decision& decision);
+  // An event of the walk (WalkExecutive's), in its own words.
+  void noted(double time_s, const std::string& what);
 
   const std::vector<LogRow>& rows() const { return rows_; }
   std::vector<LogRow> takeRows() { return std::move(rows_); }
@@ -43,5 +46,11 @@ class CommandTable {
 
 // "LegMove leg 2, 3 waypoints", "BodyMove (0.000, 0.450) m, 0.000 deg", ...
 std::string describeCommand(const link::CommandBody& body);
+
+// What a decision was about, as a sentence with units: "leg 2 to (1.20,
+// 3.40, -0.05) m, body advance 0.52 m, least stability margin 0.15 m,
+// interlocks passed; reason: ..."; a detail that is not the gate's JSON is
+// shown as it is.
+std::string describeDecision(const std::string& detail);
 
 }  // namespace ambler::replay

@@ -86,6 +86,16 @@ executive::Task loggedTask(const missionlog::LoggedProduct& p, const std::filesy
   }
 }
 
+// A walk's event as WalkSession logs it: {"what": "..."}.
+std::string loggedEvent(const missionlog::LoggedProduct& p, const std::filesystem::path& log) {
+  const std::string context = log.string() + ": event at " + std::to_string(p.time_s) + " s";
+  try {
+    return io::JsonFields(nlohmann::json::parse(p.parameters), context).string("what");
+  } catch (const nlohmann::json::exception& e) {
+    throw io::FormatError(context + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const Progress& progress) {
@@ -122,11 +132,13 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
     table.decided(d);
     t.marks_.push_back(d.time_s);
   }
+  const auto products = reader.products();
+  for (const auto& p : products)
+    if (p.kind == "event") table.noted(p.time_s, loggedEvent(p, log));
   t.rows_ = table.takeRows();
   std::stable_sort(t.rows_.begin(), t.rows_.end(),
                    [](const LogRow& a, const LogRow& b) { return a.time_s < b.time_s; });
 
-  const auto products = reader.products();
   for (const auto& p : products)
     if (p.kind == "task") t.tasks_.push_back(loggedTask(p, log));
 

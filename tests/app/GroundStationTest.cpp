@@ -168,6 +168,7 @@ class GroundStationTest : public QObject {
   void editingTheFootholdOnTheMapRechecksTheInterlocks() {
     Console c;
     c.start(6);
+    c.station.window().showMapView();  // the operator's click on the tab
     // The first steps may move the body only: approve until a leg moves.
     for (int i = 0; i < 6; ++i) {
       QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
@@ -211,6 +212,48 @@ class GroundStationTest : public QObject {
     QVERIFY(!c.panel.rejectButton()->isEnabled());
   }
 
+  // A stopped walk says why beside Approve, in the status bar and in the
+  // table, as a sentence; Resume plans afresh and the walk goes on.
+  void aStoppedWalkSaysWhyAndResumes() {
+    Console c;
+    auto& window = c.station.window();
+    window.showSamplingView();  // where the operator happens to be
+    c.start(2);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.rejectButton()->isEnabled(), 30000);
+    QVERIFY2(window.samplingPanel()->isVisible(), "starting a walk switched the operator's tab");
+    QVERIFY(!c.panel.resumeButton()->isEnabled());
+    QTest::mouseClick(c.panel.rejectButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kSuspended, 5000);
+    QTRY_VERIFY(c.panel.reasonLabel()->text().contains("step rejected by the operator"));
+    QVERIFY(c.panel.phaseLabel()->text().contains("suspended"));
+    QVERIFY2(window.statusText().contains("step rejected by the operator"),
+             qPrintable(window.statusText()));
+    const QString shot = screenshot(&c.panel, "walk-suspended.png");
+    QVERIFY2(shot.isEmpty(), qPrintable(shot));
+    auto* table = window.commandLog();
+    bool event_row = false, raw_json = false;
+    for (int row = 0; row < table->rowCount(); ++row) {
+      event_row |= table->cellText(row, 1) == "ground" &&
+                   table->cellText(row, 2).contains("step rejected by the operator");
+      for (int col = 0; col < 5; ++col) raw_json |= table->cellText(row, col).contains('{');
+    }
+    QVERIFY2(event_row, "the stop is not in Events and commands");
+    QVERIFY2(!raw_json, "a row of Events and commands shows raw JSON");
+
+    QVERIFY(c.panel.resumeButton()->isEnabled());
+    QTest::mouseClick(c.panel.resumeButton(), Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    QVERIFY(!c.panel.resumeButton()->isEnabled());
+    QVERIFY(c.panel.reasonLabel()->text().isEmpty());
+    // The stop and the resumption are in the mission log too.
+    const ambler::missionlog::MissionLogReader log(c.session().logPath());
+    int events = 0;
+    for (const auto& p : log.products())
+      events += p.kind == "event" && (p.parameters.find("rejected") != std::string::npos ||
+                                      p.parameters.find("resumed") != std::string::npos);
+    QCOMPARE(events, 2);
+  }
+
   // Hold stops a walk in the middle of a step: the Hold goes out signed,
   // the rover says it holds, nothing more is sent, and the next walk ends
   // the hold.
@@ -227,6 +270,9 @@ class GroundStationTest : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(!c.session().executive().roverHolding().empty(), 5000);
     QVERIFY2(QString::fromStdString(c.session().executive().roverHolding()).contains("alice"),
              c.session().executive().roverHolding().c_str());
+    QTRY_VERIFY2(c.panel.phaseLabel()->text().contains("HOLDS"),
+                 qPrintable(c.panel.phaseLabel()->text()));
+    QVERIFY(c.panel.reasonLabel()->text().contains("Hold sent"));
     auto* table = c.station.window().commandLog();
     bool hold_accepted = false;
     QTRY_VERIFY_WITH_TIMEOUT(
@@ -381,6 +427,9 @@ class GroundStationTest : public QObject {
     QTest::mouseClick(panel.approveButton(), Qt::LeftButton);
     QVERIFY(c.station.session());
     QVERIFY(panel.info()->text().contains("Grasp sent"));
+    // What the rover answered, not what was hoped for.
+    QTRY_VERIFY_WITH_TIMEOUT(panel.info()->text().contains("The rover refused the grasp"), 5000);
+    QVERIFY2(panel.info()->text().contains("manipulator"), qPrintable(panel.info()->text()));
     const auto& rows = c.session().commandRows();
     auto row = std::find_if(rows.begin(), rows.end(),
                             [](const auto& r) { return r.what.rfind("Grasp", 0) == 0; });

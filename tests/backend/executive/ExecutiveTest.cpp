@@ -308,6 +308,8 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   link::CommandSigner mallory({"mallory", std::vector<std::uint8_t>(32, 9)});
   ApprovalGate gate;
   WalkExecutive executive(link, mallory, gate, ground());
+  std::vector<std::string> heard;  // what the event sink passed on, as it happened
+  executive.onEvent([&](const ExecutiveEvent& e) { heard.push_back(e.what); });
   executive.start(0.0);
   double now = 0.0;
   for (int i = 0; i < 100 && executive.phase() != Phase::kSuspended; ++i)
@@ -317,6 +319,9 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   EXPECT_NE(executive.events().back().what.find("refused scan"), std::string::npos)
       << executive.events().back().what;
   EXPECT_NE(executive.events().back().what.find("mallory"), std::string::npos);
+  EXPECT_EQ(executive.suspendedBecause(), executive.events().back().what);
+  ASSERT_EQ(heard.size(), executive.events().size());
+  EXPECT_EQ(heard.back(), executive.events().back().what);
 }
 
 // A rover that never answers.

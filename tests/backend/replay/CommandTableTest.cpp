@@ -48,5 +48,35 @@ TEST(CommandTable, EachCommandIsAnsweredInItsOwnRow) {
   EXPECT_EQ(rows[6].reason, "foot near the trench");
 }
 
+TEST(CommandTable, DecisionsAndEventsReadAsSentencesWithUnits) {
+  CommandTable table;
+  table.decided({1.0, "alice", 4, missionlog::Verdict::kApproved,
+                 R"({"proposal":4,"leg":2,"body_advance":0.5234567,"min_csp_margin_m":0.15123,)"
+                 R"("interlocks":"passed","foothold_m":[1.2345,-3.4,-0.051]})"});
+  table.decided({2.0, "alice", 5, missionlog::Verdict::kRejected,
+                 R"({"proposal":5,"leg":-1,"body_advance":0.3,"min_csp_margin_m":0.09,)"
+                 R"("interlocks":"stability: margin 0.09 m","reason":"rejected by alice"})"});
+  table.decided({3.0, "alice", 0, missionlog::Verdict::kApproved,
+                 R"({"grasp":{"centre_m":"0.1,0.2,0.03","size_m":"0.05,0.04,0.03",)"
+                 R"("rms_m":0.0012,"points":812}})"});
+  table.decided({4.0, "bob", 6, missionlog::Verdict::kEdited, "{not json"});
+  table.noted(5.0, "step suspended: no step to propose");
+
+  const auto& rows = table.rows();
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[0].reason,
+            "leg 2 to (1.23, -3.40, -0.05) m, body advance 0.52 m, least stability margin 0.15 m, "
+            "interlocks passed");
+  EXPECT_EQ(rows[1].reason,
+            "body move only, body advance 0.30 m, least stability margin 0.09 m, interlock "
+            "failed: stability: margin 0.09 m; reason: rejected by alice");
+  EXPECT_EQ(rows[2].what, "approved grasp");
+  EXPECT_EQ(rows[2].reason,
+            "rock at (0.10, 0.20, 0.03) m, size (0.05, 0.04, 0.03) m, fit rms 1.2 mm, 812 points");
+  EXPECT_EQ(rows[3].reason, "{not json");  // not the gate's: shown as it is
+  EXPECT_EQ(rows[4].who, "ground");
+  EXPECT_EQ(rows[4].what, "step suspended: no step to propose");
+}
+
 }  // namespace
 }  // namespace ambler::replay

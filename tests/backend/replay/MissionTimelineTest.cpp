@@ -180,6 +180,34 @@ TEST_F(MissionTimelineTest, BuildingCanBeCancelled) {
                Cancelled);
 }
 
+TEST(MissionTimeline, TheWalksEventsAreRowsOfTheTableAtTheirTime) {
+  const TempDir dir;
+  const auto path = dir / "events.sqlite";
+  {
+    missionlog::MissionLog log(path, "events");
+    log.record(1.0, link::Telemetry{1, 1.0, link::Heartbeat{1, false, {}}});
+    log.recordProduct(2.0, "event", R"({"what": "step suspended: step rejected by the operator"})");
+    log.recordProduct(3.0, "event", R"({"what": "resumed: scanning and planning again"})");
+  }
+  const auto timeline = MissionTimeline::build(path);
+  ASSERT_EQ(timeline.rows().size(), 2u);
+  EXPECT_EQ(timeline.rows()[0].who, "ground");
+  EXPECT_EQ(timeline.rows()[0].what, "step suspended: step rejected by the operator");
+  EXPECT_EQ(timeline.rowsUpTo(2.5), 1u);
+
+  const auto bad = dir / "bad-event.sqlite";
+  {
+    missionlog::MissionLog log(bad, "bad event");
+    log.recordProduct(2.0, "event", R"({"said": 3})");
+  }
+  try {
+    MissionTimeline::build(bad);
+    FAIL();
+  } catch (const io::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("event at 2"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MissionTimeline, BadLogsAreNamedNotCrashedOn) {
   const TempDir dir;
   EXPECT_THROW(MissionTimeline::build(dir / "missing.sqlite"), missionlog::LogError);
