@@ -218,7 +218,9 @@ void GroundStation::showWalkState() {
   QString why;
   if (stopped) why = QString::fromStdString(exec.suspendedBecause());
   if (phase == executive::Phase::kDone) why = tr("%1 step(s) walked").arg(exec.stepsDone());
-  if (stopped && exec.linkLost()) why += tr("; Resume once the rover is heard again");
+  if (stopped && exec.linkLost())
+    why += tr("; LINK LOST (%1): Resume once the rover is heard again")
+               .arg(QString::fromStdString(*exec.linkLost()));
   window_.approvalPanel()->setPhase(text, why, stopped);
   window_.approvalPanel()->setResumable(stopped && !exec.linkLost());
 }

@@ -129,6 +129,7 @@ void WalkExecutive::acquireScan(int parent_task, const std::string& name, double
   scan_.reset();
   scan_of_step_.reset();
   awaiting_ = send(link::AcquireScan{}, now_s);
+  awaiting_what_ = "AcquireScan";
   sent_s_ = now_s;
   phase_ = Phase::kScanning;
 }
@@ -162,8 +163,8 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   if (phase_ == Phase::kDone || phase_ == Phase::kSuspended) return;
   if (awaiting_ && now_s - sent_s_ > opt_.ack_timeout_s) {
     std::ostringstream why;
-    why << "no acknowledgement of command " << *awaiting_ << " within " << opt_.ack_timeout_s
-        << " s";
+    why << "the rover did not acknowledge the " << awaiting_what_ << " (sequence " << *awaiting_
+        << ") within " << opt_.ack_timeout_s << " s";
     suspend(now_s, why.str(), true);
     return;
   }
@@ -490,6 +491,7 @@ void WalkExecutive::sendNext(double now_s) {
   tasks_.start(command_tasks_[next_command_], now_s);
   move_acked_ = state_fresh_ = false;
   awaiting_ = send(executing_->commands[next_command_], now_s);
+  awaiting_what_ = link::typeName(executing_->commands[next_command_]);
   sent_s_ = now_s;
   ++next_command_;
 }

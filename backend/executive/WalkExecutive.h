@@ -215,6 +215,7 @@ class WalkExecutive {
   std::optional<StepProposal> executing_;
   std::size_t next_command_ = 0;
   std::optional<std::uint64_t> awaiting_;
+  std::string awaiting_what_;  // its type, for the operator
   double sent_s_ = 0.0;
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;

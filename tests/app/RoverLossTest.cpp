@@ -1,7 +1,9 @@
 // The rover's process killed mid-walk under a console connected over DDS
 // (issue 28): the console keeps running, its status bar says the link is
-// lost, the walk is suspended with no step waiting for approval, and the
-// window is saved as a screenshot to look at. Needs a display (xvfb-run).
+// lost, the walk is suspended with no step waiting for approval, the outage
+// is in the table and the log, and the window is saved as a screenshot to
+// look at; the rover restarted, Resume plans afresh from a new scan.
+// Needs a display (xvfb-run).
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,11 +20,35 @@
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
 #include "link/Signing.h"
+#include "missionlog/MissionLog.h"
 #include "sim/ScannerSim.h"
+#include "widgets/CommandLogView.h"
+#include "widgets/StepApprovalPanel.h"
 
 using ambler::executive::Phase;
 
 namespace {
+
+// ambler-sim on `domain`, taking commands from the keys in `keys`.
+pid_t startSimulator(int domain, const std::string& keys) {
+  const pid_t sim = ::fork();
+  if (sim == 0) {
+    const std::string d = std::to_string(domain);
+    ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(), "--heartbeat-ms",
+            "200", "--duration", "120", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return sim;
+}
+
+// The index of the first row at or after `from` whose text in column 2
+// starts with one of `starts`, or -1.
+int firstRow(const ambler::widgets::CommandLogView& table, int from, const QStringList& starts) {
+  for (int row = from; row < table.rowCount(); ++row)
+    for (const auto& start : starts)
+      if (table.cellText(row, 2).startsWith(start)) return row;
+  return -1;
+}
 
 ambler::gs::StationOptions options(const QString& log_dir) {
   ambler::gs::StationOptions o;
@@ -51,13 +77,7 @@ class RoverLossTest : public QObject {
         << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
         << ambler::link::keyHex(alice) << "\"}]}";
     const int domain = 20 + int(::getpid() % 200);
-    const pid_t sim = ::fork();
-    if (sim == 0) {
-      const std::string d = std::to_string(domain), keys = folder + "/operators.json";
-      ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(),
-              "--heartbeat-ms", "200", "--duration", "120", static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
+    pid_t sim = startSimulator(domain, folder + "/operators.json");
 
     ambler::gs::GroundStation station(options(dir.path()));
     station.window().resize(1400, 900);
@@ -88,10 +108,42 @@ class RoverLossTest : public QObject {
         5000);
     for (const auto* button : station.window().findChildren<QPushButton*>())
       if (button->text() == tr("&Approve")) QVERIFY(!button->isEnabled());
+    auto& panel = *station.window().approvalPanel();
+    QVERIFY(!panel.resumeButton()->isEnabled());
+    QVERIFY(station.window().holdAction()->isEnabled());
+    QVERIFY2(panel.reasonLabel()->text().contains("LINK LOST"),
+             qPrintable(panel.reasonLabel()->text()));
+    // The outage is an event in the table and in the mission log.
+    auto& table = *station.window().commandLog();
+    const int lost_row = firstRow(table, 0, {"link lost"});
+    QVERIFY(lost_row >= 0);
+    QCOMPARE(table.cellText(lost_row, 1), QString("ground"));
+    {
+      const ambler::missionlog::MissionLogReader log(station.session()->logPath());
+      const auto products = log.products();
+      QVERIFY(std::any_of(products.begin(), products.end(), [](const auto& p) {
+        return p.kind == "event" && p.parameters.find("link lost") != std::string::npos;
+      }));
+    }
     QTest::qWait(500);  // the window keeps repainting meanwhile
     const QDir shots(AMBLER_SCREENSHOT_DIR);
     QVERIFY(shots.mkpath("."));
     QVERIFY(station.window().grab().save(shots.filePath("rover-lost.png")));
+
+    // The rover comes back: once heard, Resume scans and plans afresh, so
+    // the first move after the outage follows a scan taken after it.
+    sim = startSimulator(domain, folder + "/operators.json");
+    QTRY_VERIFY_WITH_TIMEOUT(!executive.linkLost().has_value(), 30000);
+    const int back_row = firstRow(table, lost_row, {"link back"});
+    QVERIFY(back_row > lost_row);
+    QTRY_VERIFY(panel.resumeButton()->isEnabled());
+    QTest::mouseClick(panel.resumeButton(), Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(firstRow(table, back_row, {"LegMove", "BodyMove"}) > 0, 60000);
+    const int scan_row = firstRow(table, back_row, {"AcquireScan"});
+    QVERIFY(scan_row > back_row);
+    QVERIFY(scan_row < firstRow(table, back_row, {"LegMove", "BodyMove"}));
+    ::kill(sim, SIGTERM);
+    ::waitpid(sim, nullptr, 0);
   }
 };
 

@@ -360,6 +360,9 @@ TEST(Executive, WaitsForTheRoversStateThenSendsHoldWhenACommandGoesUnanswered) {
   EXPECT_EQ(executive.phase(), Phase::kSuspended);
   EXPECT_EQ(link.sent, (std::vector<std::string>{"AcquireScan", "GroundHeartbeat",
                                                  "GroundHeartbeat", "Hold"}));
+  EXPECT_NE(executive.events().back().what.find("did not acknowledge the AcquireScan"),
+            std::string::npos)
+      << executive.events().back().what;
   EXPECT_NE(executive.events().back().what.find("within 2 s"), std::string::npos);
 }
 
