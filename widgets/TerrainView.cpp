@@ -5,9 +5,11 @@
 
 #include <QCheckBox>
 #include <QHBoxLayout>
+#include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "gait/LegRecovery.h"
 #include "gait/Support.h"
@@ -37,15 +39,15 @@ TerrainView::TerrainView(QWidget* parent)
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(view_, 1);
   layout->addLayout(options);
-  connect(show_points_, &QCheckBox::toggled, this, [this] { rebuild(); });
-  connect(show_mesh_, &QCheckBox::toggled, this, [this] { rebuild(); });
+  connect(show_points_, &QCheckBox::toggled, this, [this] { scheduleRebuild(); });
+  connect(show_mesh_, &QCheckBox::toggled, this, [this] { scheduleRebuild(); });
 }
 
 void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
                                  std::vector<Eigen::Vector3d> path) {
   mesh_outlines_ = std::move(outlines);
   mesh_path_ = std::move(path);
-  rebuild();
+  scheduleRebuild();
 }
 
 void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans) {
@@ -56,7 +58,7 @@ void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector
     for (std::size_t i = 0; i < scan.size(); i += k) few.push_back(scan[i].cast<float>());
     registered_.push_back(std::move(few));
   }
-  rebuild();
+  scheduleRebuild();
 }
 
 // One colour per scan, in the order they came, so that where two overlap
@@ -94,7 +96,7 @@ void TerrainView::addMeshOverlay(vtkRenderer* renderer) const {
 
 void TerrainView::setScene(const ScanDisplay& display) {
   display_ = display;
-  rebuild();
+  rebuild();  // at once: the first scan's frame is what a launch waits for
 }
 
 void TerrainView::setMap(const terrain::ElevationMap& map) {
@@ -119,7 +121,7 @@ void TerrainView::setMap(const terrain::ElevationMap& map) {
   for (int r = 0; r < sub.rows; ++r)
     for (int c = 0; c < sub.cols; ++c) z(r, c) = map.elevation(r0 + r, c0 + c);
   map_ground_ = std::pair{sub, std::move(z)};
-  rebuild();
+  scheduleRebuild();
 }
 
 void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
@@ -127,7 +129,7 @@ void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait
   stance_ = proposal ? std::optional(proposal->from) : stance;
   model_ = model;
   proposal_ = proposal;
-  rebuild();
+  scheduleRebuild();
 }
 
 // The body as its keep-out box at the link plane, each leg as its shaft,
@@ -192,7 +194,17 @@ void TerrainView::addProposal(vtkRenderer* renderer) const {
   renderer->AddActor(rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
 }
 
+// Changes that come together (the map, the rover, the proposal after a
+// step) cost one rebuild of the scene, once the event loop is free.
+void TerrainView::scheduleRebuild() {
+  if (std::exchange(rebuild_pending_, true)) return;
+  QTimer::singleShot(0, this, [this] {
+    if (rebuild_pending_) rebuild();
+  });
+}
+
 void TerrainView::rebuild() {
+  rebuild_pending_ = false;
   if (!display_ && !map_ground_) return;
   auto* renderer = view_->renderer();
   view_->clear();

@@ -50,6 +50,7 @@ class TerrainView : public QWidget {
   QSize sizeHint() const override { return {640, 480}; }
 
  private:
+  void scheduleRebuild();
   void rebuild();
   void addRover(vtkRenderer* renderer) const;
   void addProposal(vtkRenderer* renderer) const;
@@ -69,6 +70,7 @@ class TerrainView : public QWidget {
   gait::RoverModel model_;
   std::optional<executive::StepProposal> proposal_;
   bool camera_placed_ = false;
+  bool rebuild_pending_ = false;
 };
 
 }  // namespace ambler::widgets

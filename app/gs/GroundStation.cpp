@@ -6,6 +6,7 @@
 #include <QDir>
 #include <QStatusBar>
 #include <QtConcurrent/QtConcurrentRun>
+#include <utility>
 
 #include "app/gs/DdsConnection.h"
 #include "sim/ObstacleCourse.h"
@@ -170,6 +171,8 @@ QString GroundStation::openSession() {
           });
   connect(session_.get(), &WalkSession::scanMapped, window_.meshPanel(),
           &widgets::TerrainMeshPanel::addWalkScan);
+  connect(session_.get(), &WalkSession::scanMapped, this, [this] { map_changed_ = true; });
+  map_changed_ = true;
   // The switch the operator sees decides, whenever the session was made.
   session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());
   showSession();
@@ -196,10 +199,12 @@ void GroundStation::showSession() {
   auto* panel = window_.approvalPanel();
   showWalkState();
   panel->showProposal(session_->pending());
-  window_.mapView()->setMap(exec.map());
+  if (std::exchange(map_changed_, false)) {  // redrawing an unchanged map stalls the GUI
+    window_.mapView()->setMap(exec.map());
+    window_.terrainView()->setMap(exec.map());
+  }
   window_.mapView()->setProposal(session_->pending());
   window_.mapView()->setStance(exec.reported());
-  window_.terrainView()->setMap(exec.map());
   window_.terrainView()->setRover(exec.reported(), options_.ground.model, session_->pending());
   window_.commandLog()->setRows(session_->commandRows());
   refreshTelemetry();

@@ -73,6 +73,7 @@ class GroundStation : public QObject {
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;
   std::vector<executive::RoverSample> history_;  // the live walk's
+  bool map_changed_ = false;                     // since the views last drew it
   double session_start_s_ = 0.0;
   std::unique_ptr<replay::MissionTimeline> timeline_;
   std::vector<executive::RoverSample> replay_history_;

@@ -1,6 +1,7 @@
 // ambler-gs: the operator's ground station. Starts against the built-in
 // simulator, so a new user sees a scan and its terrain on first launch.
 #include <QApplication>
+#include <QCheckBox>
 #include <QCommandLineParser>
 #include <QElapsedTimer>
 #include <QMessageBox>
@@ -11,11 +12,14 @@
 #include <iostream>
 #include <vector>
 
+#include "app/gs/EventLoopWatchdog.h"
 #include "app/gs/GroundStation.h"
 #include "core/Memory.h"
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
 #include "rendering/VtkView.h"
+#include "widgets/SamplingPanel.h"
+#include "widgets/StepApprovalPanel.h"
 #include "widgets/TerrainView.h"
 
 namespace {
@@ -49,6 +53,55 @@ std::pair<double, long long> frameTimes(ambler::rendering::VtkView* view, bool m
   const long long cells = view->visibleCells();
   view->setCameraMoving(false);
   return {ms[5], cells};
+}
+
+void printStalls(const ambler::gs::StallSummary& s, std::ostream& out) {
+  out << "\"ticks\": " << s.ticks << ", \"stall_p50_ms\": " << s.p50_ms
+      << ", \"stall_p99_ms\": " << s.p99_ms << ", \"stall_max_ms\": " << s.max_ms
+      << ", \"stalls_20ms_or_more\": " << s.over_20ms
+      << ", \"stalls_50ms_or_more\": " << s.over_50ms << ", \"worst_at_s\": " << s.worst_at_s;
+}
+
+// The scripted session of --measure-responsiveness: an auto-approved walk
+// of `steps` steps, then a rock fit on a simulated tray and the terrain
+// mesh of the last scan, with the event loop's stalls measured throughout;
+// prints them as JSON and quits.
+void measureResponsiveness(ambler::gs::GroundStation& station,
+                           ambler::gs::EventLoopWatchdog& watchdog, int steps) {
+  auto& window = station.window();
+  auto started = std::make_shared<QElapsedTimer>();
+  QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &station, [&, started, steps] {
+    if (started->isValid()) return;
+    started->start();
+    watchdog.start();
+    window.approvalPanel()->autoApproveSwitch()->setChecked(true);
+    station.startWalk(steps);
+  });
+  auto* poll = new QTimer(&station);
+  QObject::connect(poll, &QTimer::timeout, &station, [&, started, poll] {
+    const auto* session = station.session();
+    if (!started->isValid() || !session) return;
+    const auto phase = session->executive().phase();
+    if (phase != ambler::executive::Phase::kDone && phase != ambler::executive::Phase::kSuspended)
+      return;
+    poll->stop();
+    const double walk_s = double(started->elapsed()) / 1000.0;
+    const int done = session->executive().stepsDone();
+    station.showTray(3);
+    auto* sampling = window.samplingPanel();
+    if (!sampling->seeds().empty())
+      sampling->fitAt(sampling->seeds().front().pixel.y(), sampling->seeds().front().pixel.x());
+    window.showMeshView();
+    QTimer::singleShot(3000, &station, [&, walk_s, done, started] {
+      watchdog.stop();
+      std::cout << "{\"steps\": " << done << ", \"walk_s\": " << walk_s
+                << ", \"session_s\": " << double(started->elapsed()) / 1000.0 << ", ";
+      printStalls(watchdog.summary(), std::cout);
+      std::cout << "}" << std::endl;
+      QApplication::exit(0);
+    });
+  });
+  poll->start(100);
 }
 
 }  // namespace
@@ -85,8 +138,12 @@ int main(int argc, char** argv) {
       "startup-time",
       "Print as JSON the time from launch to the first rendered 3-D frame and to the first scan "
       "shown, and the 3-D view's frame time with the camera still and moving; quit.");
-  parser.addOptions(
-      {seed_option, screenshot_option, walk_option, replay_option, log_dir_option, startup_option});
+  const QCommandLineOption responsiveness_option(
+      "measure-responsiveness",
+      "Run an auto-approved walk of 25 steps (or --walk N), a rock fit and the terrain mesh, "
+      "measuring how late the GUI thread's event loop answers; print the stalls as JSON; quit.");
+  parser.addOptions({seed_option, screenshot_option, walk_option, replay_option, log_dir_option,
+                     startup_option, responsiveness_option});
   parser.process(app);
   bool seed_ok = false;
   const quint64 seed = parser.value(seed_option).toULongLong(&seed_ok);
@@ -114,6 +171,12 @@ int main(int argc, char** argv) {
   }
   ambler::gs::GroundStation station(options);
   auto& window = station.window();
+  // Always on: a stalled GUI thread is a defect an operator should be able
+  // to report with figures (printed at exit).
+  ambler::gs::EventLoopWatchdog watchdog;
+  watchdog.start();
+  if (parser.isSet(responsiveness_option))
+    measureResponsiveness(station, watchdog, walk_steps > 0 ? walk_steps : 25);
 
   if (parser.isSet(startup_option)) {
     // The first frame of the 3-D view, then the first scan in the views.
@@ -152,6 +215,12 @@ int main(int argc, char** argv) {
   window.show();
   emit window.scanRequested(seed);
   if (parser.isSet(replay_option)) station.openLog(parser.value(replay_option));
-  if (walk_steps > 0) station.startWalk(walk_steps);
-  return app.exec();
+  if (walk_steps > 0 && !parser.isSet(responsiveness_option)) station.startWalk(walk_steps);
+  const int status = app.exec();
+  if (!parser.isSet(responsiveness_option)) {
+    std::cerr << "ambler-gs: event loop {";
+    printStalls(watchdog.summary(), std::cerr);
+    std::cerr << "}" << std::endl;
+  }
+  return status;
 }
