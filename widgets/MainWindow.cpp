@@ -221,6 +221,7 @@ void MainWindow::setReplay(const QString& what) {
   walk_action_->setEnabled(what.isEmpty());
   hold_action_->setEnabled(what.isEmpty());
   scan_action_->setEnabled(what.isEmpty());
+  seed_box_->setEnabled(what.isEmpty());
   if (!what.isEmpty()) showMapView();
 }
 
@@ -294,7 +295,7 @@ void MainWindow::showError(const QString& message) {
 
 void MainWindow::setBusy(const QString& what) {
   progress_->setVisible(!what.isEmpty());
-  scan_action_->setEnabled(what.isEmpty());
+  scan_action_->setEnabled(what.isEmpty() && !replaying_);
   if (!what.isEmpty()) setStatus(what);
 }
 

@@ -99,6 +99,14 @@ void TerrainView::setScene(const ScanDisplay& display) {
   rebuild();  // at once: the first scan's frame is what a launch waits for
 }
 
+void TerrainView::clearScan() {
+  display_.reset();
+  mesh_outlines_.clear();
+  mesh_path_.clear();
+  registered_.clear();
+  scheduleRebuild();
+}
+
 void TerrainView::setMap(const terrain::ElevationMap& map) {
   if (map.knownCount() == 0) return;
   // The map's window around the rover keeps the surface light enough for

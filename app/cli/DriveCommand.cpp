@@ -77,6 +77,7 @@ int drive(const DriveArgs& a) {
   executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
     log.recordProduct(t, kind, parameters);
   });
+  executive.onEvent([&](const executive::ExecutiveEvent& e) { log.recordEvent(e.time_s, e.what); });
 
   const double start_s = missionlog::groundClockS();
   std::size_t printed = 0;

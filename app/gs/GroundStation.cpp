@@ -312,8 +312,11 @@ void GroundStation::finishOpening() {
   timeline_ = std::make_unique<replay::MissionTimeline>(std::move(*timeline));
   replay_history_ = timeline_->samples(options_.ground.model);
   window_.setReplay(QFileInfo(job->path).fileName());
-  window_.approvalPanel()->showProposal(std::nullopt);
-  window_.approvalPanel()->setPhase(tr("replay: nothing to approve"));
+  // Only the log's state from here on: nothing of the live session stays.
+  history_.clear();
+  window_.meshPanel()->clearWalkScans();
+  window_.terrainView()->clearScan();
+  window_.approvalPanel()->setResumable(false);
   window_.commandLog()->setRows(timeline_->rows());
   window_.telemetry()->setHistory(replay_history_, timeline_->firstS());
   window_.telemetry()->setModuleTiming(timeline_->tasks(), timeline_->firstS(), timeline_->lastS());
@@ -332,8 +335,10 @@ void GroundStation::showReplayAt(double time_s) {
   if (!timeline_) return;
   const auto rover = timeline_->roverAt(time_s).sample(options_.ground.model, time_s);
   const auto stance = rover ? std::optional(rover->stance) : std::nullopt;
+  auto pending = timeline_->pendingAt(time_s);
+  if (pending && stance) pending->from = *stance;  // the rover stands still while it waits
   auto* map_view = window_.mapView();
-  map_view->setProposal(std::nullopt);
+  map_view->setProposal(pending && stance ? pending : std::nullopt);
   map_view->setStance(stance);
   if (const auto* m = timeline_->mapAt(time_s)) {
     map_view->setMap(m->map);
@@ -343,6 +348,10 @@ void GroundStation::showReplayAt(double time_s) {
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
   }
   window_.terrainView()->setRover(stance, options_.ground.model, std::nullopt);
+  auto* panel = window_.approvalPanel();
+  panel->showProposal(pending);
+  panel->setPhase(pending ? tr("replay: step %1 waits for a decision at this time").arg(pending->id)
+                          : tr("replay: no step waits for a decision at this time"));
   window_.telemetry()->setRover(rover);
   window_.telemetry()->setCursor(time_s - timeline_->firstS());
   window_.commandLog()->setCurrentTime(time_s);

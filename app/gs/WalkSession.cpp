@@ -1,7 +1,6 @@
 #include "app/gs/WalkSession.h"
 
 #include <chrono>
-#include <nlohmann/json.hpp>
 #include <random>
 
 #include "link/Limits.h"
@@ -66,7 +65,7 @@ void WalkSession::makeExecutive(const executive::ExecutiveOptions& options) {
   });
   executive_->onScanMapped([this](const sensor::RangeImage& scan) { emit scanMapped(scan); });
   executive_->onEvent([this](const executive::ExecutiveEvent& e) {
-    log_.recordProduct(e.time_s, "event", nlohmann::json{{"what", e.what}}.dump());
+    log_.recordEvent(e.time_s, e.what);
     table_.noted(e.time_s, e.what);
     emit eventNoted(QString::fromStdString(e.what));
   });

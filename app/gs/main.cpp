@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
   }
 
   window.show();
-  emit window.scanRequested(seed);
+  // A replay shows the log alone: no simulated scan behind it.
+  if (!parser.isSet(replay_option)) emit window.scanRequested(seed);
   if (parser.isSet(replay_option)) station.openLog(parser.value(replay_option));
   if (walk_steps > 0 && !parser.isSet(responsiveness_option)) station.startWalk(walk_steps);
   const int status = app.exec();

@@ -1,6 +1,7 @@
 #include "executive/ApprovalGate.h"
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 namespace ambler::executive {
 
@@ -22,6 +23,50 @@ std::string describe(const StepProposal& p) {
   if (p.plan.leg >= 0)
     j["foothold_m"] = {p.plan.foothold.x(), p.plan.foothold.y(), p.plan.foothold.z()};
   return j.dump();
+}
+
+std::string proposalRecord(const StepProposal& p) {
+  nlohmann::json checks = nlohmann::json::array();
+  for (const auto& c : p.interlocks.checks)
+    checks.push_back({{"name", c.name}, {"passed", c.passed}, {"detail", c.detail}});
+  return nlohmann::json{
+      {"proposal", p.id},
+      {"leg", p.plan.leg},
+      {"foothold_m", {p.plan.foothold.x(), p.plan.foothold.y(), p.plan.foothold.z()}},
+      {"body_advance", p.plan.body_u},
+      {"min_csp_margin_m", p.plan.min_csp_margin},
+      {"interlocks", checks}}
+      .dump();
+}
+
+StepProposal proposalFromRecord(const std::string& json) {
+  const auto j = nlohmann::json::parse(json, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw std::invalid_argument("not a JSON object");
+  const auto number = [&](const char* key) {
+    if (!j.contains(key) || !j[key].is_number())
+      throw std::invalid_argument(std::string("no number \"") + key + "\"");
+    return j[key].get<double>();
+  };
+  StepProposal p;
+  p.id = std::uint64_t(number("proposal"));
+  p.plan.leg = int(number("leg"));
+  p.plan.body_u = number("body_advance");
+  p.plan.min_csp_margin = number("min_csp_margin_m");
+  const auto& foot = j.value("foothold_m", nlohmann::json());
+  if (!foot.is_array() || foot.size() != 3 || !foot[0].is_number() || !foot[1].is_number() ||
+      !foot[2].is_number())
+    throw std::invalid_argument("\"foothold_m\" is not three numbers");
+  p.plan.foothold = {foot[0].get<double>(), foot[1].get<double>(), foot[2].get<double>()};
+  if (!j.contains("interlocks") || !j["interlocks"].is_array())
+    throw std::invalid_argument("no \"interlocks\" list");
+  for (const auto& c : j["interlocks"]) {
+    if (!c.is_object() || !c.contains("name") || !c["name"].is_string() || !c.contains("passed") ||
+        !c["passed"].is_boolean())
+      throw std::invalid_argument("an interlock without a name and a verdict");
+    p.interlocks.checks.push_back(
+        {c["name"].get<std::string>(), c["passed"].get<bool>(), c.value("detail", std::string())});
+  }
+  return p;
 }
 
 void ApprovalGate::propose(StepProposal proposal, double now_s) {

@@ -32,6 +32,14 @@ StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::Step
 // margin and the interlocks' verdict, as JSON.
 std::string describe(const StepProposal& proposal);
 
+// The proposal as the log keeps it for a replay's Step approval dock:
+// id, leg, foothold, body advance, least margin and every interlock with
+// its figures, as JSON.
+std::string proposalRecord(const StepProposal& proposal);
+// A logged proposal back, as far as the log keeps it (no stance, paths or
+// commands); std::invalid_argument naming what is missing or wrong.
+StepProposal proposalFromRecord(const std::string& json);
+
 enum class ApprovalMode { kOperator, kAutoApprove };
 
 inline const std::string kAutoApprover = "auto-approve";

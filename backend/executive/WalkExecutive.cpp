@@ -398,6 +398,7 @@ void WalkExecutive::planAndPropose(double now_s) {
   tasks_.start(approval_task_, now_s);
   phase_ = Phase::kAwaitingDecision;
   proposal->id = next_proposal_++;
+  if (product_sink_) product_sink_(now_s, "proposal", proposalRecord(*proposal));
   gate_.propose(std::move(*proposal), now_s);
 }
 
@@ -467,8 +468,11 @@ std::string WalkExecutive::editFoothold(std::uint64_t proposal, const Eigen::Vec
   if (pending->plan.leg < 0) return "this step moves no leg, so it has no foothold to edit";
   gait::StepPlan plan =
       gait::planStepWithFoothold(pending->from, opt_.heading, map_, ctx_, pending->plan.leg, xy);
-  return gate_.edit(proposal, operator_id, now_s,
-                    makeProposal(proposal, pending->from, std::move(plan), map_, ctx_));
+  auto edited = makeProposal(proposal, pending->from, std::move(plan), map_, ctx_);
+  const std::string record = proposalRecord(edited);
+  auto refused = gate_.edit(proposal, operator_id, now_s, std::move(edited));
+  if (refused.empty() && product_sink_) product_sink_(now_s, "proposal", record);
+  return refused;
 }
 
 void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <utility>
 
 namespace ambler::missionlog {
@@ -221,6 +222,10 @@ void MissionLog::record(const Decision& d) {
       .bind(4, verdictName(d.verdict))
       .bind(5, d.detail)
       .step();
+}
+
+void MissionLog::recordEvent(double time_s, const std::string& what) {
+  recordProduct(time_s, "event", nlohmann::json{{"what", what}}.dump());
 }
 
 void MissionLog::recordProduct(double time_s, const std::string& kind,

@@ -93,6 +93,8 @@ class MissionLog {
   void record(const Decision& decision);
   void recordProduct(double time_s, const std::string& kind, const std::string& parameters_json,
                      const link::Bytes& data = {});
+  // An event of a walk in a sentence: an "event" product, {"what": ...}.
+  void recordEvent(double time_s, const std::string& what);
 
  private:
   void insertMessage(double time_s, Direction direction, const std::string& type,

@@ -96,6 +96,16 @@ std::string loggedEvent(const missionlog::LoggedProduct& p, const std::filesyste
   }
 }
 
+executive::StepProposal loggedProposal(const missionlog::LoggedProduct& p,
+                                       const std::filesystem::path& log) {
+  try {
+    return executive::proposalFromRecord(p.parameters);
+  } catch (const std::invalid_argument& e) {
+    throw io::FormatError(log.string() + ": proposal at " + std::to_string(p.time_s) +
+                          " s: " + e.what());
+  }
+}
+
 }  // namespace
 
 MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const Progress& progress) {
@@ -131,10 +141,13 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
   for (const auto& d : reader.decisions()) {
     table.decided(d);
     t.marks_.push_back(d.time_s);
+    if (d.verdict != missionlog::Verdict::kEdited) t.decided_s_.emplace(d.proposal, d.time_s);
   }
   const auto products = reader.products();
-  for (const auto& p : products)
+  for (const auto& p : products) {
     if (p.kind == "event") table.noted(p.time_s, loggedEvent(p, log));
+    if (p.kind == "proposal") t.proposals_.emplace_back(p.time_s, loggedProposal(p, log));
+  }
   t.rows_ = table.takeRows();
   std::stable_sort(t.rows_.begin(), t.rows_.end(),
                    [](const LogRow& a, const LogRow& b) { return a.time_s < b.time_s; });
@@ -186,6 +199,18 @@ std::vector<executive::RoverSample> MissionTimeline::samples(const gait::RoverMo
     if (auto sample = report.sample(model, s.time_s)) out.push_back(std::move(*sample));
   }
   return out;
+}
+
+std::optional<executive::StepProposal> MissionTimeline::pendingAt(double time_s) const {
+  const auto after = std::upper_bound(
+      proposals_.begin(), proposals_.end(), time_s,
+      [](double t, const std::pair<double, executive::StepProposal>& p) { return t < p.first; });
+  if (after == proposals_.begin()) return std::nullopt;
+  const auto& [proposed_s, proposal] = *std::prev(after);
+  const auto [first, last] = decided_s_.equal_range(proposal.id);
+  for (auto d = first; d != last; ++d)
+    if (d->second >= proposed_s && d->second <= time_s) return std::nullopt;
+  return proposal;
 }
 
 std::size_t MissionTimeline::rowsUpTo(double time_s) const {

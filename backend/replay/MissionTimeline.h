@@ -9,10 +9,12 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "executive/ApprovalGate.h"
 #include "executive/ReportedStance.h"
 #include "executive/TaskTree.h"
 #include "gait/RoverModel.h"
@@ -56,6 +58,9 @@ class MissionTimeline {
   std::size_t rowsUpTo(double time_s) const;
   // The executive's tasks as logged when each ended (cmu-1990 fig. 7).
   const std::vector<executive::Task>& tasks() const { return tasks_; }
+  // The step waiting for the operator at `time_s` (proposed, or edited,
+  // at or before it and not yet approved or rejected), as the log keeps it.
+  std::optional<executive::StepProposal> pendingAt(double time_s) const;
   // Times worth stepping to: each scan, each decision, each move's answer.
   const std::vector<double>& marks() const { return marks_; }
   // Messages in the log that could not be decoded (left out).
@@ -73,6 +78,10 @@ class MissionTimeline {
   std::vector<LogRow> rows_;
   std::vector<double> marks_;
   std::vector<executive::Task> tasks_;
+  std::vector<std::pair<double, executive::StepProposal>> proposals_;  // in time order
+  // When each proposal id was approved or rejected (ids restart with each
+  // walk a log holds).
+  std::multimap<std::uint64_t, double> decided_s_;
   long unreadable_ = 0;
 };
 

@@ -371,6 +371,43 @@ class GroundStationTest : public QObject {
     QVERIFY(c.station.window().commandLog()->rowCount() >= rows_then);
   }
 
+  // Scrubbed to while a step waited, the replay shows that step with its
+  // interlocks, and nothing once it was approved; nothing live stays on
+  // screen and nothing live can be commanded.
+  void theReplayShowsTheStepThatWaitedAtTheTimeScrubbedTo() {
+    Console c;
+    c.start(1);
+    QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
+    const quint64 waited = c.session().pending()->id;
+    QTest::qWait(1000);  // the operator looks before deciding
+    QTest::mouseClick(c.panel.approveButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().executive().phase(), Phase::kDone, 60000);
+    const QString log = QString::fromStdString(c.session().logPath().string());
+
+    QSignalSpy ready(&c.station, &GroundStation::replayReady);
+    c.station.openLog(log);
+    QVERIFY(ready.wait(30000));
+    auto& window = c.station.window();
+    for (QAction* live : {window.scanAction(), window.walkAction(), window.holdAction()})
+      QVERIFY2(!live->isEnabled(), qPrintable(live->text()));
+    QVERIFY(!c.panel.isEnabled());
+
+    // The approval's row gives the time the step stopped waiting.
+    const auto& rows = c.station.timeline()->rows();
+    const auto approved = std::find_if(rows.begin(), rows.end(), [&](const auto& r) {
+      return r.what == "approved proposal " + std::to_string(waited);
+    });
+    QVERIFY(approved != rows.end());
+    auto* bar = window.timeline();
+    bar->setTime(approved->time_s - 0.5);
+    QVERIFY2(c.panel.phaseLabel()->text().contains(QString("step %1 waits").arg(waited)),
+             qPrintable(c.panel.phaseLabel()->text()));
+    QCOMPARE(c.panel.interlockTable()->rowCount(), 5);
+    bar->setTime(approved->time_s + 0.01);
+    QCOMPARE(c.panel.interlockTable()->rowCount(), 0);
+    QVERIFY(c.panel.phaseLabel()->text().contains("no step waits"));
+  }
+
   void exportsWriteTheMapLayersPlotsAndTable() {
     Console c;
     c.start(1);

@@ -147,14 +147,18 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
   EXPECT_EQ(summary.rejected, 1);
   // Each mapped scan, with what recomputes its map from the logged image
   // and the pose correction it was placed with;
-  // and each ended task of the task tree, for the module-timing plot.
+  // each ended task of the task tree, for the module-timing plot; each
+  // proposal, for the replay's Step approval dock (five approved, one
+  // rejected).
   std::map<std::string, long> kinds;
   for (const auto& product : missionlog::MissionLogReader(dir / "mission.db").products())
     ++kinds[product.kind];
   EXPECT_EQ(kinds["elevation_map"], summary.from_rover.at("RangeImage"));
   EXPECT_EQ(kinds["pose_correction"], summary.from_rover.at("RangeImage"));
   EXPECT_GT(kinds["task"], 0);
-  EXPECT_EQ(summary.products, kinds["elevation_map"] + kinds["pose_correction"] + kinds["task"]);
+  EXPECT_EQ(kinds["proposal"], 6);
+  EXPECT_EQ(summary.products,
+            kinds["elevation_map"] + kinds["pose_correction"] + kinds["task"] + kinds["proposal"]);
 }
 
 // A console (ambler-cli drive) in its own process, killed with SIGKILL

@@ -128,6 +128,33 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
+// What the log keeps of a proposal comes back as the replay shows it, with
+// a failed interlock's figures; a damaged record is named, not guessed at.
+TEST(Executive, AProposalRecordComesBackFromTheLog) {
+  StepProposal p;
+  p.id = 7;
+  p.plan.leg = 3;
+  p.plan.foothold = {1.25, -0.5, 0.02};
+  p.plan.body_u = 0.41;
+  p.plan.min_csp_margin = 0.12;
+  p.interlocks.checks = {{"plan", true, "body stopped by the CSP"},
+                         {"reach", false, "knee 2.1 deg beyond its range"}};
+  const auto back = proposalFromRecord(proposalRecord(p));
+  EXPECT_EQ(back.id, 7u);
+  EXPECT_EQ(back.plan.leg, 3);
+  EXPECT_TRUE(back.plan.foothold.isApprox(p.plan.foothold));
+  EXPECT_DOUBLE_EQ(back.plan.body_u, 0.41);
+  EXPECT_DOUBLE_EQ(back.plan.min_csp_margin, 0.12);
+  ASSERT_EQ(back.interlocks.checks.size(), 2u);
+  EXPECT_FALSE(back.interlocks.passed());
+  EXPECT_EQ(back.interlocks.firstFailure(), p.interlocks.firstFailure());
+  for (const std::string bad : {"[]", "{\"proposal\": 7}", "not json",
+                                R"({"proposal":1,"leg":0,"body_advance":0,"min_csp_margin_m":0,)"
+                                R"("foothold_m":[1,2],"interlocks":[]})"}) {
+    EXPECT_THROW(proposalFromRecord(bad), std::invalid_argument) << bad;
+  }
+}
+
 TEST(Executive, ARejectedStepSendsNothing) {
   Console c;
   c.executive.start(c.now);

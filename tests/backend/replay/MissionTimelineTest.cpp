@@ -175,6 +175,42 @@ TEST_F(MissionTimelineTest, TheTableAnswersEachCommandAndShowsEachDecision) {
   EXPECT_TRUE(std::is_sorted(timeline.marks().begin(), timeline.marks().end()));
 }
 
+// Auto-approved steps never wait: each is approved at the time it is
+// proposed, so no time of the walk shows one pending.
+TEST_F(MissionTimelineTest, AnAutoApprovedStepIsNeverShownWaiting) {
+  const auto timeline = MissionTimeline::build(log_path_);
+  for (double t = timeline.firstS(); t <= timeline.lastS(); t += 0.05)
+    EXPECT_FALSE(timeline.pendingAt(t).has_value()) << t;
+}
+
+// A step waits from its proposal to its decision, with the figures logged;
+// ids restart with each walk in the same log.
+TEST(MissionTimeline, AStepWaitsFromItsProposalToItsDecision) {
+  const TempDir dir;
+  const auto path = dir / "pending.sqlite";
+  executive::StepProposal p;
+  p.id = 1;
+  p.plan.leg = 2;
+  p.interlocks.checks = {{"plan", true, "ok"}};
+  {
+    missionlog::MissionLog log(path, "pending");
+    log.recordProduct(1.0, "proposal", executive::proposalRecord(p));
+    log.record({3.0, "alice", 1, missionlog::Verdict::kApproved, "{}"});
+    p.plan.leg = 4;  // the next walk's first step, id 1 again
+    log.recordProduct(5.0, "proposal", executive::proposalRecord(p));
+    log.record({6.0, "alice", 1, missionlog::Verdict::kRejected, "{}"});
+  }
+  const auto timeline = MissionTimeline::build(path);
+  EXPECT_FALSE(timeline.pendingAt(0.5));
+  ASSERT_TRUE(timeline.pendingAt(2.0));
+  EXPECT_EQ(timeline.pendingAt(2.0)->plan.leg, 2);
+  EXPECT_EQ(timeline.pendingAt(2.0)->interlocks.checks.front().detail, "ok");
+  EXPECT_FALSE(timeline.pendingAt(4.0));
+  ASSERT_TRUE(timeline.pendingAt(5.5));
+  EXPECT_EQ(timeline.pendingAt(5.5)->plan.leg, 4);
+  EXPECT_FALSE(timeline.pendingAt(6.5));
+}
+
 TEST_F(MissionTimelineTest, BuildingCanBeCancelled) {
   EXPECT_THROW(MissionTimeline::build(log_path_, [](int done, int) { return done < 1; }),
                Cancelled);
