@@ -95,7 +95,8 @@ MainWindow::MainWindow(QWidget* parent)
   toolbar->widgetForAction(hold_action_)
       ->setStyleSheet(
           "QToolButton { color: white; background: #b71c1c; font-weight: bold; "
-          "padding: 2px 14px; }");
+          "padding: 2px 14px; } "
+          "QToolButton:disabled { color: #e0e0e0; background: #9e9e9e; }");
   connect(hold_action_, &QAction::triggered, this, &MainWindow::holdRequested);
 
   // The approval dock keeps the window's whole height: Approve and Reject
