@@ -109,12 +109,13 @@ void ConnectDialog::setChoice(const ConnectChoice& c) {
   check();
 }
 
-QString ConnectDialog::problem() const {
+Refusal ConnectDialog::problem() const {
   const auto c = choice();
-  auto readable = [](const QString& path, const QString& what) -> QString {
-    if (path.isEmpty()) return tr("Choose %1.").arg(what);
+  auto readable = [](const QString& path, const QString& what) -> Refusal {
+    if (path.isEmpty()) return Refusal::because(tr("Choose %1.").arg(what).toStdString());
     const QFileInfo info(path);
-    if (!info.isFile() || !info.isReadable()) return tr("%1 is not a readable file.").arg(path);
+    if (!info.isFile() || !info.isReadable())
+      return Refusal::because(tr("%1 is not a readable file.").arg(path).toStdString());
     return {};
   };
   switch (c.source) {
@@ -129,9 +130,9 @@ QString ConnectDialog::problem() const {
 }
 
 void ConnectDialog::check() {
-  const QString why = problem();
-  problem_->setText(why);
-  buttons_->button(QDialogButtonBox::Ok)->setEnabled(why.isEmpty());
+  const auto usable = problem();
+  problem_->setText(QString::fromStdString(usable.why()));
+  buttons_->button(QDialogButtonBox::Ok)->setEnabled(!usable.refused());
 }
 
 }  // namespace ambler::widgets

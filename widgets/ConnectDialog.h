@@ -1,6 +1,7 @@
 #pragma once
 
 #include <QDialog>
+#include "core/Refusal.h"
 
 class QButtonGroup;
 class QDialogButtonBox;
@@ -32,8 +33,8 @@ class ConnectDialog : public QDialog {
 
   ConnectChoice choice() const;
   void setChoice(const ConnectChoice& choice);
-  // Empty when the choice can be used, else why not.
-  QString problem() const;
+  // Refused, with why, when the choice cannot be used.
+  Refusal problem() const;
 
  private:
   void check();

@@ -185,11 +185,11 @@ void MainWindow::addMenus() {
   });
   open->setShortcut(QKeySequence::Open);
   file->addSeparator();
-  auto report = [this](const QString& why, const QString& done) {
-    if (why.isEmpty())
-      setStatus(done);
+  auto report = [this](const Refusal& written, const QString& done) {
+    if (written.refused())
+      showError(QString::fromStdString(written.why()));
     else
-      showError(why);
+      setStatus(done);
   };
   file->addAction(tr("Export map layers (TIFF)…"), this, [this, report] {
     const QString dir = QFileDialog::getExistingDirectory(this, tr("Folder for the map layers"));
@@ -226,33 +226,39 @@ void MainWindow::setReplay(const QString& what) {
   if (!what.isEmpty()) showMapView();
 }
 
-QString MainWindow::exportMapLayers(const QString& dir) const {
+namespace {
+
+Refusal refused(const QString& why) { return Refusal::because(why.toStdString()); }
+
+}  // namespace
+
+Refusal MainWindow::exportMapLayers(const QString& dir) const {
   const auto& map = map_view_->map();
-  if (!map) return tr("There is no terrain map to export yet.");
+  if (!map) return refused(tr("There is no terrain map to export yet."));
   try {
     terrain::writeElevationMap(*map, dir.toStdString());
   } catch (const std::exception& e) {
-    return tr("Could not write the map layers: %1").arg(e.what());
+    return refused(tr("Could not write the map layers: %1").arg(e.what()));
   }
   return {};
 }
 
-QString MainWindow::exportPlots(const QString& dir) const {
+Refusal MainWindow::exportPlots(const QString& dir) const {
   const std::pair<QChartView*, QString> plots[] = {{telemetry_->timingView(), "module-timing.png"},
                                                    {telemetry_->feetView(), "foot-heights.png"},
                                                    {telemetry_->loadsView(), "foot-loads.png"}};
   for (const auto& [view, name] : plots) {
     const QString path = QDir(dir).filePath(name);
-    if (!view->grab().save(path)) return tr("Could not write %1").arg(path);
+    if (!view->grab().save(path)) return refused(tr("Could not write %1").arg(path));
   }
   return {};
 }
 
-QString MainWindow::exportTable(const QString& path) const {
+Refusal MainWindow::exportTable(const QString& path) const {
   QFile file(path);
   if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate | QIODevice::Text) ||
       file.write(command_log_->toCsv().toUtf8()) < 0)
-    return tr("Could not write %1: %2").arg(path, file.errorString());
+    return refused(tr("Could not write %1: %2").arg(path, file.errorString()));
   return {};
 }
 

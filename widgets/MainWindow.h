@@ -2,6 +2,7 @@
 
 #include <QMainWindow>
 
+#include "core/Refusal.h"
 #include "widgets/ScanDisplay.h"
 
 class QLabel;
@@ -69,10 +70,10 @@ class MainWindow : public QMainWindow {
   QProgressBar* progress() const { return progress_; }
   // A replay of `what` (shown in the title, the timeline shown), or live.
   void setReplay(const QString& what);
-  // Each returns what went wrong, empty when the files were written.
-  QString exportMapLayers(const QString& dir) const;
-  QString exportPlots(const QString& dir) const;
-  QString exportTable(const QString& file) const;
+  // Each is refused, with what went wrong, when the files were not written.
+  Refusal exportMapLayers(const QString& dir) const;
+  Refusal exportPlots(const QString& dir) const;
+  Refusal exportTable(const QString& file) const;
   // Brings the terrain map to the front (a replay opened).
   void showMapView();
   // "simulator in this process: last data 0.4 s ago"; stale shows in red.

@@ -37,7 +37,12 @@ GroundStation::GroundStation(StationOptions options, QObject* parent)
   connect(&refresh_timer_, &QTimer::timeout, this, &GroundStation::refreshTelemetry);
   refresh_timer_.start(500);
   window_.setSeed(options_.seed);
-  connectTo(choice_);
+  report(connectTo(choice_));
+}
+
+bool GroundStation::report(const Refusal& refusal) {
+  if (refusal.refused()) window_.showError(QString::fromStdString(refusal.why()));
+  return refusal.refused();
 }
 
 GroundStation::~GroundStation() {
@@ -66,7 +71,7 @@ void GroundStation::wireWindow() {
   connect(&window_, &widgets::MainWindow::openLogRequested, this, &GroundStation::openLog);
   connect(&window_, &widgets::MainWindow::connectRequested, this, [this] {
     widgets::ConnectDialog dialog(choice_, &window_);
-    if (dialog.exec() == QDialog::Accepted) connectTo(dialog.choice());
+    if (dialog.exec() == QDialog::Accepted) report(connectTo(dialog.choice()));
   });
   connect(window_.timeline(), &widgets::TimelineBar::timeChanged, this,
           &GroundStation::showReplayAt);
@@ -76,29 +81,29 @@ void GroundStation::wireWindow() {
   connect(sampling, &widgets::SamplingPanel::graspApproved, this,
           [this, sampling](const sampling::GraspPlan& plan, const QString& fit) {
             if (timeline_) return sampling->setGraspAnswer(tr("a replay cannot command"), false);
-            if (!session_ && !openSession().isEmpty()) return;
-            const auto why = session_->sendGrasp(plan, fit.toStdString());
+            if (!session_ && report(openSession())) return;
+            const auto sent = session_->sendGrasp(plan, fit.toStdString());
             sampling->setGraspAnswer(
-                why.isEmpty()
-                    ? tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
-                          .arg(options_.operator_id)
-                    : tr("Not sent: %1").arg(why),
-                why.isEmpty());
+                sent.refused()
+                    ? tr("Not sent: %1").arg(QString::fromStdString(sent.why()))
+                    : tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
+                          .arg(options_.operator_id),
+                !sent.refused());
           });
 
   auto* panel = window_.approvalPanel();
   connect(window_.mapView(), &widgets::MapView::footholdClicked, this,
           [this](quint64 id, double x, double y) {
             if (!session_) return;
-            if (const auto why = session_->editFoothold(id, x, y); !why.isEmpty())
-              window_.setStatus(why);
+            if (const auto edit = session_->editFoothold(id, x, y); edit.refused())
+              window_.setStatus(QString::fromStdString(edit.why()));
           });
   connect(panel, &widgets::StepApprovalPanel::approveRequested, this, [this](quint64 id) {
     if (!session_) return;
-    if (const auto why = session_->approve(id); !why.isEmpty()) window_.showError(why);
+    report(session_->approve(id));
   });
   connect(panel, &widgets::StepApprovalPanel::rejectRequested, this, [this](quint64 id) {
-    if (session_) session_->reject(id, tr("rejected by %1").arg(options_.operator_id));
+    if (session_) report(session_->reject(id, tr("rejected by %1").arg(options_.operator_id)));
   });
   connect(panel, &widgets::StepApprovalPanel::resumeRequested, this, [this] {
     if (session_ && !timeline_) session_->resume();
@@ -127,7 +132,7 @@ QString GroundStation::newLogPath() const {
       QDateTime::currentDateTimeUtc().toString("'walk-'yyyyMMdd'T'HHmmss'Z.sqlite'"));
 }
 
-QString GroundStation::connectTo(const widgets::ConnectChoice& choice) {
+Refusal GroundStation::connectTo(const widgets::ConnectChoice& choice) {
   choice_ = choice;
   if (choice.source == widgets::ConnectChoice::Source::kLog) {
     openLog(choice.log_file);
@@ -145,7 +150,7 @@ QString GroundStation::connectTo(const widgets::ConnectChoice& choice) {
   return {};
 }
 
-QString GroundStation::openSession() {
+Refusal GroundStation::openSession() {
   try {
     RoverConnection rover =
         choice_.source == widgets::ConnectChoice::Source::kDds
@@ -155,9 +160,7 @@ QString GroundStation::openSession() {
     session_ = std::make_unique<WalkSession>(options_.ground, std::move(rover),
                                              newLogPath().toStdString());
   } catch (const std::exception& e) {
-    const QString why = tr("Could not connect: %1").arg(e.what());
-    window_.showError(why);
-    return why;
+    return Refusal::because(std::string("Could not connect: ") + e.what());
   }
   connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
   connect(session_.get(), &WalkSession::eventNoted, this,
@@ -183,10 +186,11 @@ QString GroundStation::openSession() {
 }
 
 void GroundStation::startWalk(int steps) {
-  if (timeline_)
-    connectTo(choice_.source == widgets::ConnectChoice::Source::kLog ? widgets::ConnectChoice{}
-                                                                     : choice_);
-  if (!session_ && !openSession().isEmpty()) return;
+  if (timeline_ && report(connectTo(choice_.source == widgets::ConnectChoice::Source::kLog
+                                        ? widgets::ConnectChoice{}
+                                        : choice_)))
+    return;
+  if (!session_ && report(openSession())) return;
   session_start_s_ = missionlog::groundClockS();
   history_.clear();
   window_.meshPanel()->clearWalkScans();

@@ -41,9 +41,9 @@ class GroundStation : public QObject {
   const replay::MissionTimeline* timeline() const { return timeline_.get(); }
 
   // A walk session over `choice` (a rover over DDS now, the built-in
-  // simulator at the first walk), or a replay of a log. Errors are shown
-  // to the operator and returned; empty on success.
-  QString connectTo(const widgets::ConnectChoice& choice);
+  // simulator at the first walk), or a replay of a log; refused, with why,
+  // when the rover cannot be reached.
+  Refusal connectTo(const widgets::ConnectChoice& choice);
   // Builds the log's timeline on a worker thread with a progress dialog;
   // replayReady() or an error follows.
   void openLog(const QString& path);
@@ -59,7 +59,9 @@ class GroundStation : public QObject {
 
  private:
   void wireWindow();
-  QString openSession();  // over choice_; empty, or why not
+  Refusal openSession();  // over choice_
+  // Shows a refusal to the operator; whether there was one.
+  bool report(const Refusal& refusal);
   void showSession();
   void showWalkState();
   void refreshTelemetry();

@@ -103,23 +103,22 @@ void WalkSession::answerGrasp() {
   emit changed();  // the table shows the answer
 }
 
-QString WalkSession::approve(quint64 proposal) {
-  const auto why = gate_.approve(proposal, operator_id_.toStdString(), nowS());
+Refusal WalkSession::approve(quint64 proposal) {
+  auto done = gate_.approve(proposal, operator_id_.toStdString(), nowS());
   poll();
-  return QString::fromStdString(why);
+  return done;
 }
 
-QString WalkSession::reject(quint64 proposal, const QString& reason) {
-  const auto why = gate_.reject(proposal, operator_id_.toStdString(), nowS(), reason.toStdString());
+Refusal WalkSession::reject(quint64 proposal, const QString& reason) {
+  auto done = gate_.reject(proposal, operator_id_.toStdString(), nowS(), reason.toStdString());
   poll();
-  return QString::fromStdString(why);
+  return done;
 }
 
-QString WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
-  const auto why =
-      executive_->editFoothold(proposal, {x_m, y_m}, operator_id_.toStdString(), nowS());
+Refusal WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
+  auto done = executive_->editFoothold(proposal, {x_m, y_m}, operator_id_.toStdString(), nowS());
   emit changed();
-  return QString::fromStdString(why);
+  return done;
 }
 
 void WalkSession::hold() {
@@ -138,21 +137,24 @@ void WalkSession::setAutoApprove(bool on) {
   gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
   // A step already waiting is released now if it passes its interlocks.
   if (on && gate_.pending() && gate_.pending()->interlocks.passed())
-    gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
+    if (const auto refused = gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
+        refused.refused())
+      emit eventNoted(tr("auto-approve refused the waiting step: %1")
+                          .arg(QString::fromStdString(refused.why())));
   emit changed();
 }
 
-QString WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
-  if (!plan.ok) return tr("no grasp to send: %1").arg(QString::fromStdString(plan.reason));
+Refusal WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
+  if (!plan.ok) return Refusal::because("no grasp to send: " + plan.reason);
   const auto phase = executive_->phase();
   if (phase != executive::Phase::kIdle && phase != executive::Phase::kDone &&
       phase != executive::Phase::kSuspended)
-    return tr("the walk is %1: grasp once it has stopped")
-        .arg(QString::fromStdString(executive::phaseName(phase)));
+    return Refusal::because("the walk is " + executive::phaseName(phase) +
+                            ": grasp once it has stopped");
   const link::Grasp grasp{plan.centre.x(), plan.centre.y(), plan.centre.z(), plan.yaw_rad,
                           plan.opening_m};
-  if (const auto why = link::outsideLimits(grasp, context_.model, context_.gait); !why.empty())
-    return QString::fromStdString(why);
+  if (auto outside = link::outsideLimits(grasp, context_.model, context_.gait); outside.refused())
+    return outside;
   const missionlog::Decision decision{nowS(), operator_id_.toStdString(), 0,
                                       missionlog::Verdict::kApproved,
                                       "{\"grasp\": " + detail + "}"};
@@ -168,7 +170,7 @@ QString WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::strin
     link_->send(command);
   } catch (const link::LinkError& e) {
     grasp_row_.reset();
-    return tr("grasp approved but not sent: %1").arg(QString::fromUtf8(e.what()));
+    return Refusal::because(std::string("grasp approved but not sent: ") + e.what());
   }
   if (!timer_.isActive()) timer_.start(50);  // for the answer
   emit changed();

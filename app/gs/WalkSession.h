@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "core/Refusal.h"
 #include "executive/WalkExecutive.h"
 #include "missionlog/ReplayLinks.h"
 #include "replay/CommandTable.h"
@@ -46,11 +47,11 @@ class WalkSession : public QObject {
   ~WalkSession() override;
 
   void start(int steps);
-  QString approve(quint64 proposal);  // empty when done, else why not
-  QString reject(quint64 proposal, const QString& reason);
+  Refusal approve(quint64 proposal);
+  Refusal reject(quint64 proposal, const QString& reason);
   // The operator moved the pending step's foothold: replanned, interlocks
   // checked again, still pending.
-  QString editFoothold(quint64 proposal, double x_m, double y_m);
+  Refusal editFoothold(quint64 proposal, double x_m, double y_m);
   void setAutoApprove(bool on);
   // The operator's Hold: sent signed at once (WalkExecutive::hold).
   void hold();
@@ -59,8 +60,8 @@ class WalkSession : public QObject {
   void resume();
   // The operator approved this grasp (`detail`: JSON of the fit behind it):
   // checked against the rover's limits, logged, signed and sent. Refused
-  // while a walk is under way. Empty when sent, else why not.
-  QString sendGrasp(const sampling::GraspPlan& plan, const std::string& detail);
+  // while a walk is under way.
+  Refusal sendGrasp(const sampling::GraspPlan& plan, const std::string& detail);
 
   const executive::WalkExecutive& executive() const { return *executive_; }
   const std::optional<executive::StepProposal>& pending() const { return gate_.pending(); }

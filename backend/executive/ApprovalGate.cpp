@@ -72,30 +72,35 @@ StepProposal proposalFromRecord(const std::string& json) {
 void ApprovalGate::propose(StepProposal proposal, double now_s) {
   pending_ = std::move(proposal);
   if (mode_ == ApprovalMode::kAutoApprove && pending_->interlocks.passed())
-    approve(pending_->id, kAutoApprover, now_s);
+    release(kAutoApprover, now_s);
 }
 
-std::string ApprovalGate::checkPending(std::uint64_t id) const {
-  if (!pending_) return "no step is waiting for a decision";
+Refusal ApprovalGate::checkPending(std::uint64_t id) const {
+  if (!pending_) return Refusal::because("no step is waiting for a decision");
   if (pending_->id != id)
-    return "step " + std::to_string(id) + " is not the one waiting (step " +
-           std::to_string(pending_->id) + " is)";
+    return Refusal::because("step " + std::to_string(id) + " is not the one waiting (step " +
+                            std::to_string(pending_->id) + " is)");
   return {};
 }
 
-std::string ApprovalGate::approve(std::uint64_t id, const std::string& operator_id, double now_s) {
-  if (auto problem = checkPending(id); !problem.empty()) return problem;
+Refusal ApprovalGate::approve(std::uint64_t id, const std::string& operator_id, double now_s) {
+  if (auto problem = checkPending(id); problem.refused()) return problem;
   if (!pending_->interlocks.passed())
-    return "interlock failed, the step cannot be sent: " + pending_->interlocks.firstFailure();
-  decide(missionlog::Verdict::kApproved, operator_id, now_s, id, describe(*pending_));
+    return Refusal::because("interlock failed, the step cannot be sent: " +
+                            pending_->interlocks.firstFailure());
+  release(operator_id, now_s);
+  return {};
+}
+
+void ApprovalGate::release(const std::string& operator_id, double now_s) {
+  decide(missionlog::Verdict::kApproved, operator_id, now_s, pending_->id, describe(*pending_));
   released_ = std::move(pending_);
   pending_.reset();
-  return {};
 }
 
-std::string ApprovalGate::reject(std::uint64_t id, const std::string& operator_id, double now_s,
-                                 const std::string& reason) {
-  if (auto problem = checkPending(id); !problem.empty()) return problem;
+Refusal ApprovalGate::reject(std::uint64_t id, const std::string& operator_id, double now_s,
+                             const std::string& reason) {
+  if (auto problem = checkPending(id); problem.refused()) return problem;
   auto detail = nlohmann::json::parse(describe(*pending_));
   detail["reason"] = reason;
   decide(missionlog::Verdict::kRejected, operator_id, now_s, id, detail.dump());
@@ -103,9 +108,9 @@ std::string ApprovalGate::reject(std::uint64_t id, const std::string& operator_i
   return {};
 }
 
-std::string ApprovalGate::edit(std::uint64_t id, const std::string& operator_id, double now_s,
-                               StepProposal edited) {
-  if (auto problem = checkPending(id); !problem.empty()) return problem;
+Refusal ApprovalGate::edit(std::uint64_t id, const std::string& operator_id, double now_s,
+                           StepProposal edited) {
+  if (auto problem = checkPending(id); problem.refused()) return problem;
   edited.id = id;
   decide(missionlog::Verdict::kEdited, operator_id, now_s, id, describe(edited));
   pending_ = std::move(edited);

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "core/Refusal.h"
 #include "executive/Interlocks.h"
 #include "missionlog/MissionLog.h"
 
@@ -57,15 +58,14 @@ class ApprovalGate {
   void propose(StepProposal proposal, double now_s);
   const std::optional<StepProposal>& pending() const { return pending_; }
 
-  // Each returns an empty string when done, else why not (nothing pending
-  // with that id, or the interlocks fail).
-  std::string approve(std::uint64_t id, const std::string& operator_id, double now_s);
-  std::string reject(std::uint64_t id, const std::string& operator_id, double now_s,
-                     const std::string& reason);
+  // Each is refused when nothing is pending with that id, or (approve)
+  // when the interlocks fail.
+  Refusal approve(std::uint64_t id, const std::string& operator_id, double now_s);
+  Refusal reject(std::uint64_t id, const std::string& operator_id, double now_s,
+                 const std::string& reason);
   // The operator moved the foothold; `edited` is the step replanned with
   // it, interlocks checked again. It stays pending until approved.
-  std::string edit(std::uint64_t id, const std::string& operator_id, double now_s,
-                   StepProposal edited);
+  Refusal edit(std::uint64_t id, const std::string& operator_id, double now_s, StepProposal edited);
 
   // The step was suspended: what is pending or approved but not yet sent
   // was planned for a state that no longer holds.
@@ -75,7 +75,8 @@ class ApprovalGate {
   std::optional<StepProposal> takeReleased();
 
  private:
-  std::string checkPending(std::uint64_t id) const;
+  Refusal checkPending(std::uint64_t id) const;
+  void release(const std::string& operator_id, double now_s);  // the pending step, approved
   void decide(missionlog::Verdict verdict, const std::string& operator_id, double now_s,
               std::uint64_t id, const std::string& detail);
 

@@ -17,8 +17,8 @@ InterlockCheck planned(const gait::StepPlan& plan) {
 InterlockCheck jointLimits(const std::vector<link::CommandBody>& commands,
                            const gait::GaitContext& ctx) {
   for (const auto& command : commands) {
-    const std::string problem = link::outsideLimits(command, ctx.model, ctx.gait);
-    if (!problem.empty()) return {"joint limits", false, problem};
+    if (const auto outside = link::outsideLimits(command, ctx.model, ctx.gait); outside.refused())
+      return {"joint limits", false, outside.why()};
   }
   return {"joint limits", true, "every waypoint and the body move within the rover's limits"};
 }

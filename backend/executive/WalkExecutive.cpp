@@ -460,19 +460,20 @@ std::optional<gait::StepPlan> WalkExecutive::takeAhead() {
   return gait::reanchorStep(plan, ahead_from_, now, opt_.heading, ctx_);
 }
 
-std::string WalkExecutive::editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
-                                        const std::string& operator_id, double now_s) {
+Refusal WalkExecutive::editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
+                                    const std::string& operator_id, double now_s) {
   const auto& pending = gate_.pending();
   if (!pending || pending->id != proposal)
-    return "step " + std::to_string(proposal) + " is not waiting for a decision";
-  if (pending->plan.leg < 0) return "this step moves no leg, so it has no foothold to edit";
+    return Refusal::because("step " + std::to_string(proposal) + " is not waiting for a decision");
+  if (pending->plan.leg < 0)
+    return Refusal::because("this step moves no leg, so it has no foothold to edit");
   gait::StepPlan plan =
       gait::planStepWithFoothold(pending->from, opt_.heading, map_, ctx_, pending->plan.leg, xy);
   auto edited = makeProposal(proposal, pending->from, std::move(plan), map_, ctx_);
   const std::string record = proposalRecord(edited);
-  auto refused = gate_.edit(proposal, operator_id, now_s, std::move(edited));
-  if (refused.empty() && product_sink_) product_sink_(now_s, "proposal", record);
-  return refused;
+  auto edit = gate_.edit(proposal, operator_id, now_s, std::move(edited));
+  if (!edit.refused() && product_sink_) product_sink_(now_s, "proposal", record);
+  return edit;
 }
 
 void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {

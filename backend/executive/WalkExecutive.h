@@ -122,8 +122,8 @@ class WalkExecutive {
   void poll(double now_s, std::chrono::milliseconds wait);
   // The operator moved the pending step's foothold: the step is planned
   // again with it and its interlocks checked; it stays pending.
-  std::string editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
-                           const std::string& operator_id, double now_s);
+  Refusal editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
+                       const std::string& operator_id, double now_s);
   // After a suspension or a rejection: end the rover's hold if it holds,
   // then scan and plan again from where the rover reports it is.
   void resume(double now_s);

@@ -61,9 +61,10 @@ std::string check(const Resume&, const gait::RoverModel&, const gait::GaitOption
 
 }  // namespace
 
-std::string outsideLimits(const CommandBody& command, const gait::RoverModel& model,
-                          const gait::GaitOptions& gait) {
-  return std::visit([&](const auto& body) { return check(body, model, gait); }, command);
+Refusal outsideLimits(const CommandBody& command, const gait::RoverModel& model,
+                      const gait::GaitOptions& gait) {
+  std::string why = std::visit([&](const auto& body) { return check(body, model, gait); }, command);
+  return why.empty() ? Refusal{} : Refusal::because(std::move(why));
 }
 
 }  // namespace ambler::link

@@ -1,7 +1,6 @@
 #pragma once
 
-#include <string>
-
+#include "core/Refusal.h"
 #include "gait/GaitPlanner.h"
 #include "link/Messages.h"
 
@@ -9,9 +8,9 @@ namespace ambler::link {
 
 // The first way `command` exceeds the rover's kinematic limits (joint
 // ranges, body advance and turn per move), as a sentence for an operator or
-// a NACK; empty when within them. The ground checks before sending, the
-// rover again before moving.
-std::string outsideLimits(const CommandBody& command, const gait::RoverModel& model,
-                          const gait::GaitOptions& gait);
+// a NACK; not refused when within them. The ground checks before sending,
+// the rover again before moving.
+Refusal outsideLimits(const CommandBody& command, const gait::RoverModel& model,
+                      const gait::GaitOptions& gait);
 
 }  // namespace ambler::link

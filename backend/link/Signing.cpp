@@ -118,7 +118,12 @@ CommandVerifier::CommandVerifier(std::uint32_t rover_id, const std::vector<Opera
   for (const auto& k : keys) keys_[k.operator_id] = k.key;
 }
 
-std::string CommandVerifier::check(const Command& c) {
+Refusal CommandVerifier::check(const Command& c) {
+  std::string why = problem(c);
+  return why.empty() ? Refusal{} : Refusal::because(std::move(why));
+}
+
+std::string CommandVerifier::problem(const Command& c) {
   if (c.rover_id != rover_id_)
     return "addressed to rover " + std::to_string(c.rover_id) + ", this is rover " +
            std::to_string(rover_id_);

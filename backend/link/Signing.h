@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/Refusal.h"
 #include "link/Messages.h"
 
 namespace ambler::link {
@@ -59,11 +60,12 @@ class CommandSigner {
 class CommandVerifier {
  public:
   CommandVerifier(std::uint32_t rover_id, const std::vector<OperatorKey>& keys);
-  // Empty when accepted (the sequence number is then used up); otherwise the
-  // reason for refusing, for the NACK.
-  std::string check(const Command& command);
+  // Accepted (the sequence number is then used up), or the reason for
+  // refusing, for the NACK.
+  Refusal check(const Command& command);
 
  private:
+  std::string problem(const Command& command);
   std::uint32_t rover_id_;
   std::map<std::string, std::vector<std::uint8_t>> keys_;
   std::map<std::string, std::uint64_t> last_sequence_;

@@ -82,15 +82,16 @@ std::vector<link::Telemetry> SimulatedRover::refuse(const link::Command& command
 }
 
 std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command, double now_s) {
-  std::string reason = verifier_.check(command);
-  if (!reason.empty()) return refuse(command, reason, now_s);
+  if (const auto unverified = verifier_.check(command); unverified.refused())
+    return refuse(command, unverified.why(), now_s);
+  std::string reason;
   last_heard_s_ = now_s;
   if (std::holds_alternative<link::GroundHeartbeat>(command.body)) return {};
   const bool moves = std::holds_alternative<link::LegMove>(command.body) ||
                      std::holds_alternative<link::BodyMove>(command.body) ||
                      std::holds_alternative<link::Grasp>(command.body);
   if (moves && holding()) reason = "holding (" + holding_ + "): send Resume first";
-  if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait);
+  if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait).why();
   std::vector<link::Telemetry> changes;
   if (reason.empty()) reason = execute(command, now_s, changes);
   std::vector<link::Telemetry> out{message(

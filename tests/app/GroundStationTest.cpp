@@ -414,22 +414,23 @@ class GroundStationTest : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
     QTemporaryDir out;
     auto& w = c.station.window();
-    QCOMPARE(w.exportMapLayers(out.path()), QString());
+    QCOMPARE(w.exportMapLayers(out.path()).why(), std::string());
     for (const char* f : {"elevation.tif", "sigma.tif", "state.tif"})
       QVERIFY2(QFile::exists(QDir(out.path()).filePath(f)), f);
-    QCOMPARE(w.exportPlots(out.path()), QString());
+    QCOMPARE(w.exportPlots(out.path()).why(), std::string());
     QVERIFY(QImage(QDir(out.path()).filePath("module-timing.png")).width() > 100);
     QVERIFY(QImage(QDir(out.path()).filePath("foot-heights.png")).width() > 100);
     QVERIFY(QImage(QDir(out.path()).filePath("foot-loads.png")).width() > 100);
     const QString csv = QDir(out.path()).filePath("commands.csv");
-    QCOMPARE(w.exportTable(csv), QString());
+    QCOMPARE(w.exportTable(csv).why(), std::string());
     QFile file(csv);
     QVERIFY(file.open(QIODevice::ReadOnly));
     const auto lines = QString::fromUtf8(file.readAll()).split('\n', Qt::SkipEmptyParts);
     QCOMPARE(lines.front(), QString("time_s,operator,command,answer,reason"));
     QCOMPARE(lines.size(), w.commandLog()->rowCount() + 1);
     // A folder that cannot be written is named in the error, not a crash.
-    QVERIFY(w.exportTable("/proc/no/such/commands.csv").contains("/proc/no/such"));
+    QVERIFY(QString::fromStdString(w.exportTable("/proc/no/such/commands.csv").why())
+                .contains("/proc/no/such"));
   }
 
   // Rock sampling: a click on a seed in the tray's image outlines the rock,

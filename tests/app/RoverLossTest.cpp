@@ -86,7 +86,7 @@ class RoverLossTest : public QObject {
     choice.source = ambler::widgets::ConnectChoice::Source::kDds;
     choice.domain = domain;
     choice.key_file = dir.filePath("alice.key");
-    QCOMPARE(station.connectTo(choice), QString());
+    QCOMPARE(station.connectTo(choice).why(), std::string());
     station.session()->setAutoApprove(true);
     station.startWalk(20);
     const auto& executive = station.session()->executive();

@@ -120,9 +120,9 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
     executive.poll(now, 50ms);
     if (const auto& p = gate.pending(); p && decided.insert(p->id).second) {
       if (decided.size() == 1)
-        EXPECT_EQ(gate.reject(p->id, "alice", now, "scripted rejection"), "");
+        EXPECT_FALSE(gate.reject(p->id, "alice", now, "scripted rejection").refused());
       else
-        EXPECT_EQ(gate.approve(p->id, "alice", now), "") << p->interlocks.firstFailure();
+        EXPECT_FALSE(gate.approve(p->id, "alice", now).refused()) << p->interlocks.firstFailure();
     }
     if (executive.phase() == Phase::kSuspended) {
       ASSERT_EQ(decided.size(), 1u) << executive.events().back().what;

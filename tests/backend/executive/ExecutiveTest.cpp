@@ -160,7 +160,7 @@ TEST(Executive, ARejectedStepSendsNothing) {
   c.executive.start(c.now);
   c.untilDecisionNeeded();
   const auto id = c.gate.pending()->id;
-  EXPECT_EQ(c.gate.reject(id, "alice", c.now, "foot too near the box"), "");
+  EXPECT_FALSE(c.gate.reject(id, "alice", c.now, "foot too near the box").refused());
   c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
   EXPECT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_EQ(c.link.count("LegMove") + c.link.count("BodyMove"), 0);
@@ -176,7 +176,7 @@ TEST(Executive, AnApprovedStepMovesTheRover) {
   c.untilDecisionNeeded();
   const double y0 = c.executive.reported()->body.xy.y();
   const auto plan = c.gate.pending()->plan;
-  EXPECT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+  EXPECT_FALSE(c.gate.approve(c.gate.pending()->id, "alice", c.now).refused());
   c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
   ASSERT_EQ(c.executive.phase(), Phase::kDone);
   EXPECT_EQ(c.executive.stepsDone(), 1);
@@ -202,7 +202,7 @@ TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
   c.untilDecisionNeeded();
   // The first steps may move the body only: approve until a leg moves.
   for (int i = 0; i < 4 && c.gate.pending()->plan.leg < 0; ++i) {
-    ASSERT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+    ASSERT_FALSE(c.gate.approve(c.gate.pending()->id, "alice", c.now).refused());
     c.pollUntil([&] { return c.gate.pending().has_value(); });
     c.untilDecisionNeeded();
   }
@@ -212,7 +212,7 @@ TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
   ASSERT_GE(c.gate.pending()->plan.leg, 0);
   const Eigen::Vector2d planned = c.gate.pending()->plan.foothold.head<2>();
   // Far outside anything scanned: unknown ground, and out of reach.
-  EXPECT_EQ(c.executive.editFoothold(id, {30.0, 40.0}, "alice", c.now), "");
+  EXPECT_FALSE(c.executive.editFoothold(id, {30.0, 40.0}, "alice", c.now).refused());
   const auto& edited = *c.gate.pending();
   EXPECT_FALSE(edited.interlocks.passed());
   EXPECT_NE(edited.interlocks.firstFailure(), "");
@@ -223,15 +223,15 @@ TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
   };
   EXPECT_TRUE(failed("foothold terrain"));
   EXPECT_TRUE(failed("reach"));
-  EXPECT_NE(c.gate.approve(id, "alice", c.now).find("interlock"), std::string::npos);
+  EXPECT_NE(c.gate.approve(id, "alice", c.now).why().find("interlock"), std::string::npos);
   c.executive.poll(c.now += 0.05, 20ms);
   EXPECT_EQ(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
   ASSERT_EQ(c.decisions.size(), 1u);
   EXPECT_EQ(c.decisions[0].verdict, missionlog::Verdict::kEdited);
   // Back to the planner's foothold: every interlock passes again.
-  EXPECT_EQ(c.executive.editFoothold(id, planned, "alice", c.now), "");
+  EXPECT_FALSE(c.executive.editFoothold(id, planned, "alice", c.now).refused());
   EXPECT_TRUE(c.gate.pending()->interlocks.passed()) << c.gate.pending()->interlocks.firstFailure();
-  EXPECT_EQ(c.gate.approve(id, "alice", c.now), "");
+  EXPECT_FALSE(c.gate.approve(id, "alice", c.now).refused());
   c.pollUntil([&] { return c.link.count("LegMove") + c.link.count("BodyMove") > moves_before; });
   EXPECT_GT(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
 }
@@ -409,12 +409,12 @@ TEST(Executive, ARoverHoldSuspendsTheStepUntilResumed) {
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_EQ(c.executive.roverHolding(), "Hold from bob");
   EXPECT_FALSE(c.gate.pending());
-  EXPECT_NE(c.gate.approve(stale, "alice", c.now), "");  // nothing stale to approve
+  EXPECT_TRUE(c.gate.approve(stale, "alice", c.now).refused());  // nothing stale to approve
 
   c.executive.resume(c.now);
   c.untilDecisionNeeded();
   EXPECT_EQ(c.executive.roverHolding(), "");
-  EXPECT_EQ(c.gate.approve(c.gate.pending()->id, "alice", c.now), "");
+  EXPECT_FALSE(c.gate.approve(c.gate.pending()->id, "alice", c.now).refused());
   c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
   EXPECT_EQ(c.executive.phase(), Phase::kDone) << c.executive.events().back().what;
   EXPECT_EQ(c.link.count("Resume"), 1);

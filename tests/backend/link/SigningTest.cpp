@@ -43,41 +43,41 @@ TEST(Signing, ASignedCommandIsAcceptedOnceAndInOrder) {
   alice.sign(second);
   EXPECT_EQ(first.sequence, 1u);
   EXPECT_EQ(second.sequence, 2u);
-  EXPECT_EQ(rover.check(first), "");
+  EXPECT_FALSE(rover.check(first).refused());
   // Through the wire form as well.
-  EXPECT_EQ(rover.check(decodeCommand(encode(second))), "");
-  EXPECT_NE(rover.check(second).find("replayed command: sequence 2"), std::string::npos);
-  EXPECT_NE(rover.check(first).find("out of order: sequence 1 after 2"), std::string::npos);
+  EXPECT_FALSE(rover.check(decodeCommand(encode(second))).refused());
+  EXPECT_NE(rover.check(second).why().find("replayed command: sequence 2"), std::string::npos);
+  EXPECT_NE(rover.check(first).why().find("out of order: sequence 1 after 2"), std::string::npos);
 }
 
 TEST(Signing, EveryKindOfBadCommandIsRefusedWithItsReason) {
   CommandVerifier rover(1, {key("alice", 1)});
   Command c = bodyMove();
-  EXPECT_EQ(rover.check(c), "unsigned command");
+  EXPECT_EQ(rover.check(c).why(), "unsigned command");
 
   CommandSigner mallory(key("mallory", 9));
   mallory.sign(c);
-  EXPECT_EQ(rover.check(c), "unknown operator \"mallory\"");
+  EXPECT_EQ(rover.check(c).why(), "unknown operator \"mallory\"");
 
   CommandSigner forged(key("alice", 9));  // alice's name, the wrong key
   c = bodyMove();
   forged.sign(c);
-  EXPECT_EQ(rover.check(c), "bad signature for operator \"alice\"");
+  EXPECT_EQ(rover.check(c).why(), "bad signature for operator \"alice\"");
 
   CommandSigner alice(key("alice", 1));
   c = bodyMove();
   alice.sign(c);
   std::get<BodyMove>(c.body).y_m = 3.0;  // tampered with after signing
-  EXPECT_EQ(rover.check(c), "bad signature for operator \"alice\"");
+  EXPECT_EQ(rover.check(c).why(), "bad signature for operator \"alice\"");
 
   c = bodyMove(2);
   alice.sign(c);
-  EXPECT_EQ(rover.check(c), "addressed to rover 2, this is rover 1");
+  EXPECT_EQ(rover.check(c).why(), "addressed to rover 2, this is rover 1");
 
   CommandSigner zero(key("alice", 1), 0);
   c = bodyMove();
   zero.sign(c);
-  EXPECT_EQ(rover.check(c), "sequence 0 (sequences start at 1)");
+  EXPECT_EQ(rover.check(c).why(), "sequence 0 (sequences start at 1)");
 }
 
 TEST(Signing, KeyFilesAreReadAndBadOnesNamed) {
