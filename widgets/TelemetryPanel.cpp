@@ -123,6 +123,11 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   addAxes(feet_view_->chart(), valueAxis(tr("Foot z [m]")));
   addAxes(loads_view_->chart(), valueAxis(tr("Load [kN]")));
   auto* plots = new QTabWidget;
+  // A chart's size hint grows with its legend and tick labels as data
+  // comes; taken into account, it would push the dock, and every view
+  // above it, while the operator works.
+  plots->setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Ignored);
+  plots->setMinimumHeight(240);
   plots->addTab(timing_view_, tr("Module timing"));
   plots->addTab(feet_view_, tr("Foot heights"));
   plots->addTab(loads_view_, tr("Foot loads"));

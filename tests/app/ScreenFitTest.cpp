@@ -5,6 +5,7 @@
 // dock back, and what the screen shows is saved as a screenshot.
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QMenuBar>
@@ -117,6 +118,34 @@ class ScreenFitTest : public QObject {
              qPrintable(QString("the window is %1 on a screen of %2")
                             .arg(describe(window.frameGeometry()), describe(screen))));
     QSettings().remove("main/geometry");
+  }
+
+  // What the operator reaches for stays where it is: the docks and the views
+  // keep their geometry from 1 s after launch through a walk's first steps
+  // and the auto-approve switch.
+  void theLayoutDoesNotMoveUnderTheOperatorsHand() {
+    QTemporaryDir logs;
+    ambler::gs::GroundStation station(options(logs.path()));
+    auto& window = station.window();
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    emit window.scanRequested(1);
+    QTest::qWait(1000);
+    const auto layout = [&] {
+      QStringList parts;
+      for (const QWidget* w : window.findChildren<QDockWidget*>())
+        parts << w->objectName() + " " + describe(w->geometry());
+      parts << "central " + describe(window.centralWidget()->geometry());
+      parts << "window " + describe(window.geometry());
+      return parts.join("; ");
+    };
+    const QString before = layout();
+    station.startWalk(3);
+    window.approvalPanel()->autoApproveSwitch()->setChecked(true);
+    QTRY_VERIFY_WITH_TIMEOUT(station.session()->executive().stepsDone() >= 2, 60000);
+    window.approvalPanel()->autoApproveSwitch()->setChecked(false);
+    QTest::qWait(500);
+    QCOMPARE(layout(), before);
   }
 
   void resetLayoutBringsBackAHiddenDock() {
