@@ -6,12 +6,9 @@
 #include <QPainter>
 #include <QPushButton>
 #include <QVBoxLayout>
-#include <chrono>
 #include <cmath>
 
-#include "core/Resources.h"
 #include "rendering/ColorMap.h"
-#include "vision/DangerMap.h"
 
 namespace ambler::widgets {
 
@@ -118,87 +115,43 @@ QImage blended(const io::FloatImage& grey, const io::FloatImage& danger) {
 }  // namespace
 
 DangerPanel::DangerPanel(QWidget* parent)
-    : QWidget(parent), view_(new DangerImageView), readout_(new QLabel) {
-  QString camera_error;
-  try {
-    camera_ = vision::readCameraFile(findResource("config/camera.json"));
-  } catch (const std::exception& e) {  // the built-in defaults, and say so
-    camera_error = tr("Camera file unusable (%1); using the built-in camera. ").arg(e.what());
-  }
+    : QWidget(parent), view_(new DangerImageView), camera_(new QLabel), readout_(new QLabel) {
   auto* open = new QPushButton(tr("Open camera image…"));
   auto* bar = new QHBoxLayout;
   bar->addWidget(open);
-  auto* camera = new QLabel(tr("Camera: %1 rows, axis %2° from the vertical, %3° field of view, "
-                               "%4 m up (config/camera.json)")
-                                .arg(camera_.camera.rows)
-                                .arg(camera_.camera.alpha_deg)
-                                .arg(camera_.camera.beta_deg)
-                                .arg(camera_.camera.height_m));
-  camera->setWordWrap(true);
-  bar->addWidget(camera, 1);
+  camera_->setWordWrap(true);
+  bar->addWidget(camera_, 1);
   readout_->setWordWrap(true);
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(bar);
   layout->addWidget(view_, 1);
   layout->addWidget(readout_);
-  connect(open, &QPushButton::clicked, this, &DangerPanel::chooseImage);
-  readout_->setText(camera_error +
-                    tr("Open a grey-level camera image to see its degree of danger."));
+  connect(open, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(
+        this, tr("Camera image"), {}, tr("Images (*.png *.pgm *.jpg *.tif *.tiff)"));
+    if (!path.isEmpty()) emit imageChosen(path);
+  });
+  readout_->setText(tr("Open a grey-level camera image to see its degree of danger."));
 }
 
-void DangerPanel::chooseImage() {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Camera image"), {},
-                                                    tr("Images (*.png *.pgm *.jpg *.tif *.tiff)"));
-  if (!path.isEmpty()) openImage(path);
+void DangerPanel::setCamera(const QString& summary) { camera_->setText(summary); }
+
+void DangerPanel::showAnalysis(const io::FloatImage& grey, const io::FloatImage& danger,
+                               const vision::Bands& bands, const vision::RoughRoute& route,
+                               const QString& readout) {
+  route_ = route;
+  view_->picture = blended(grey, danger);
+  view_->bands = bands;
+  view_->route = &*route_;
+  readout_->setText(readout);
+  view_->update();
 }
 
-QString DangerPanel::openImage(const QString& path) {
-  try {
-    return setImage(vision::readGreyImage(path.toStdString()), path);
-  } catch (const std::exception& e) {
-    readout_->setText(QString::fromStdString(e.what()));
-    return readout_->text();
-  }
-}
-
-QString DangerPanel::setImage(const io::FloatImage& grey, const QString& name) {
-  try {
-    const auto start = std::chrono::steady_clock::now();
-    const auto danger = vision::degreeOfDanger(grey, camera_.camera, camera_.danger);
-    route_ = vision::planRoughRoute(danger, camera_.camera);
-    sensing_ = vision::planSensing(danger, camera_.camera, *route_);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    view_->picture = blended(grey, danger);
-    view_->bands = vision::bandsOf(camera_.camera);
-    view_->route = &*route_;
-    QString text = tr("%1: %2 x %3, planned in %4 ms. ")
-                       .arg(name)
-                       .arg(grey.cols)
-                       .arg(grey.rows)
-                       .arg(ms, 0, 'f', 0);
-    if (!route_->found) {
-      text += tr("No route: %1.").arg(QString::fromStdString(route_->reason));
-    } else {
-      text += tr("Route: %1 way areas%2; dangerous above D = %3.")
-                  .arg(route_->way_areas.size())
-                  .arg(route_->start_moved ? tr(", start moved out of danger") : QString())
-                  .arg(route_->threshold, 0, 'f', 2);
-      for (const auto& s : sensing_)
-        text += tr("\n%1 (%2): %3")
-                    .arg(QString::fromStdString(s.band), vision::toString(s.rate),
-                         vision::describe(s.action));
-    }
-    readout_->setText(text);
-    view_->update();
-    return {};
-  } catch (const std::exception& e) {
-    route_.reset(), sensing_.clear();
-    view_->route = nullptr;
-    readout_->setText(QString::fromStdString(e.what()));
-    view_->update();
-    return readout_->text();
-  }
+void DangerPanel::showProblem(const QString& why) {
+  route_.reset();
+  view_->route = nullptr;
+  readout_->setText(why);
+  view_->update();
 }
 
 QString DangerPanel::readout() const { return readout_->text(); }

@@ -4,8 +4,8 @@
 #include <optional>
 
 #include "io/Image.h"
+#include "vision/DangerMap.h"
 #include "vision/RoughRoute.h"
-#include "vision/VisionFiles.h"
 
 class QLabel;
 
@@ -23,23 +23,26 @@ class DangerPanel : public QWidget {
  public:
   explicit DangerPanel(QWidget* parent = nullptr);
 
-  // Reads the image (PNG, PGM, JPEG, TIFF) and plans on it; empty when
-  // done, else why not (also shown in the panel).
-  QString openImage(const QString& path);
-  QString setImage(const io::FloatImage& grey, const QString& name);
+  void setCamera(const QString& summary);
+  // The image with its degree of danger over it, the distance bands, the
+  // rough route and what the analysis found, in sentences.
+  void showAnalysis(const io::FloatImage& grey, const io::FloatImage& danger,
+                    const vision::Bands& bands, const vision::RoughRoute& route,
+                    const QString& readout);
+  // No analysis to show, and why.
+  void showProblem(const QString& why);
 
   const std::optional<vision::RoughRoute>& route() const { return route_; }
-  const std::vector<vision::SensingStep>& sensing() const { return sensing_; }
   QString readout() const;
 
- private:
-  void chooseImage();
+ signals:
+  void imageChosen(const QString& path);
 
-  vision::CameraFile camera_;
+ private:
   DangerImageView* view_;
+  QLabel* camera_;
   QLabel* readout_;
   std::optional<vision::RoughRoute> route_;
-  std::vector<vision::SensingStep> sensing_;
 };
 
 }  // namespace ambler::widgets

@@ -132,11 +132,6 @@ std::vector<std::vector<Eigen::Vector3d>> wireframe(const Superquadric& s) {
   return lines;
 }
 
-QPointF project(const sensor::PinholeCamera& cam, const Eigen::Vector3d& world) {
-  const Eigen::Vector3d p = cam.camera_to_world.inverse() * world;
-  return {cam.fx * p.x() / p.z() + cam.cx, cam.fy * p.y() / p.z() + cam.cy};
-}
-
 }  // namespace
 
 SamplingPanel::SamplingPanel(QWidget* parent)
@@ -305,7 +300,10 @@ void SamplingPanel::showSample() {
     if (!growing)
       for (const auto& line : wireframe(sample_->fit.shape)) {
         QPolygonF poly;
-        for (const auto& w : line) poly << project(image_->camera, w);
+        for (const auto& w : line) {
+          const Eigen::Vector2d pixel = image_->camera.pixelOf(w);
+          poly << QPointF(pixel.x(), pixel.y());
+        }
         view_->wireframe.push_back(poly);
       }
   }

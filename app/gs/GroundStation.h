@@ -7,6 +7,7 @@
 #include <atomic>
 #include <memory>
 
+#include "app/gs/DangerController.h"
 #include "app/gs/SimulatorSource.h"
 #include "app/gs/WalkSession.h"
 #include "replay/MissionTimeline.h"
@@ -37,6 +38,7 @@ class GroundStation : public QObject {
   ~GroundStation() override;
 
   widgets::MainWindow& window() { return window_; }
+  DangerController& danger() { return danger_; }
   WalkSession* session() const { return session_.get(); }
   const replay::MissionTimeline* timeline() const { return timeline_.get(); }
 
@@ -71,6 +73,7 @@ class GroundStation : public QObject {
 
   StationOptions options_;
   widgets::MainWindow window_;
+  DangerController danger_{*window_.dangerPanel()};
   SimulatorSource simulator_;
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;

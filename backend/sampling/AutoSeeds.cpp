@@ -19,10 +19,8 @@ struct Epipole {
 };
 
 Epipole projectorInImage(const sensor::StriperImage& image) {
-  const auto& cam = image.camera;
-  const Eigen::Vector3d p = cam.camera_to_world.inverse() * image.projector_position;
-  const double z = std::abs(p.z()) > 1e-9 ? p.z() : 1e-9;
-  return {{cam.fx * p.x() / z + cam.cx, cam.fy * p.y() / z + cam.cy}, p.z() > 0};
+  return {image.camera.pixelOf(image.projector_position),
+          image.camera.inFront(image.projector_position)};
 }
 
 Eigen::Vector2d towards(const Epipole& e, const Eigen::Vector2d& from) {

@@ -24,6 +24,16 @@ struct PinholeCamera {
     return camera_to_world.linear() * d.normalized();
   }
   Eigen::Vector3d center() const { return camera_to_world.translation(); }
+  // Where `world` appears in the image: (column, row). A point on the
+  // camera's focal plane is taken 1 nm in front of it.
+  Eigen::Vector2d pixelOf(const Eigen::Vector3d& world) const {
+    const Eigen::Vector3d p = camera_to_world.inverse() * world;
+    const double z = std::abs(p.z()) > 1e-9 ? p.z() : 1e-9;
+    return {fx * p.x() / z + cx, fy * p.y() / z + cy};
+  }
+  bool inFront(const Eigen::Vector3d& world) const {
+    return (camera_to_world.inverse() * world).z() > 0;
+  }
 };
 
 // One light-striper acquisition as in the cmu-1990 sampling paper: four

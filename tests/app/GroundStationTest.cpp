@@ -579,14 +579,18 @@ class GroundStationTest : public QObject {
     for (int r = 0; r < 480; ++r)
       for (int col = 0; col < 640; ++col)
         image(r, col) = (r >= 300 && r < 330 && col >= 250 && col < 420) ? rock(rng) : sand(rng);
-    QVERIFY2(panel.setImage(image, "rocks ahead").isEmpty(), qPrintable(panel.readout()));
-    QVERIFY(panel.route() && panel.route()->found);
-    QVERIFY(!panel.route()->way_areas.empty());
+    auto& danger = c.station.danger();
+    QVERIFY2(!danger.analyse(image, "rocks ahead").refused(), qPrintable(panel.readout()));
+    QVERIFY(danger.route() && danger.route()->found);
+    QVERIFY(panel.route() && panel.route()->way_areas.size() == danger.route()->way_areas.size());
+    QVERIFY(!danger.route()->way_areas.empty());
     QVERIFY2(panel.readout().contains("F: turn to the destination"), qPrintable(panel.readout()));
     w.showDangerView();
     const QString error = screenshot(&panel, "danger-map.png");
     QVERIFY2(error.isEmpty(), qPrintable(error));
-    QVERIFY(panel.openImage("/nonexistent/camera.png").contains("does not exist"));
+    const auto missing = danger.open("/nonexistent/camera.png");
+    QVERIFY(QString::fromStdString(missing.why()).contains("does not exist"));
+    QVERIFY(panel.readout().contains("does not exist"));
   }
 
   // Screenshots of each main view into the build tree (docs/images keeps

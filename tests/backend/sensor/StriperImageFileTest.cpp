@@ -28,6 +28,24 @@ StriperImage sampleStriper() {
   return s;
 }
 
+// A pixel's ray, followed any distance, projects back onto that pixel;
+// what lies behind the camera is not in front of it.
+TEST(PinholeCamera, APixelsRayProjectsBackOntoIt) {
+  PinholeCamera cam;
+  cam.rows = 480, cam.cols = 640;
+  cam.fx = 520.0, cam.fy = 515.0, cam.cx = 321.5, cam.cy = 238.25;
+  cam.camera_to_world = Eigen::Translation3d(0.2, -0.1, 1.5) *
+                        Eigen::AngleAxisd(2.6, Eigen::Vector3d(0.3, 1.0, 0.2).normalized());
+  for (const auto& [r, c] : {std::pair{0.0, 0.0}, {240.0, 320.0}, {479.0, 12.5}}) {
+    const Eigen::Vector3d world = cam.center() + 1.7 * cam.rayInWorld(r, c);
+    const Eigen::Vector2d pixel = cam.pixelOf(world);
+    EXPECT_NEAR(pixel.x(), c, 1e-9);
+    EXPECT_NEAR(pixel.y(), r, 1e-9);
+    EXPECT_TRUE(cam.inFront(world));
+    EXPECT_FALSE(cam.inFront(cam.center() - 1.7 * cam.rayInWorld(r, c)));
+  }
+}
+
 TEST(StriperImageFile, RoundTrip) {
   TempDir dir;
   const auto image = sampleStriper();
