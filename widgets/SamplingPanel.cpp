@@ -4,8 +4,6 @@
 
 #include <QCheckBox>
 #include <QHBoxLayout>
-#include <QJsonDocument>
-#include <QJsonObject>
 #include <QLabel>
 #include <QMouseEvent>
 #include <QPainter>
@@ -181,7 +179,9 @@ SamplingPanel::SamplingPanel(QWidget* parent)
   layout->addLayout(controls);
   layout->addLayout(body, 1);
 
-  view_->clicked = [this](double row, double col) { fitAt(row, col); };
+  view_->clicked = [this](double row, double col) {
+    if (image_) emit fitRequested(row, col, robust_->isChecked());
+  };
   view_->hovered = [this](double row, double col) {
     if (!image_) return;
     const int r = int(std::lround(row)), c = int(std::lround(col));
@@ -202,26 +202,13 @@ SamplingPanel::SamplingPanel(QWidget* parent)
     view_->show_features = on;
     view_->update();
   });
-  connect(robust_, &QCheckBox::toggled, this, [this] {
-    if (sample_) fitAt(sample_->seed.y(), sample_->seed.x());
+  connect(robust_, &QCheckBox::toggled, this, [this](bool robust) {
+    if (sample_) emit fitRequested(sample_->seed.y(), sample_->seed.x(), robust);
   });
   connect(approve_, &QPushButton::clicked, this, [this] {
     if (!sample_ || !sample_->grasp.ok) return;
     approve_->setEnabled(false);  // once per fit
-    const auto& q = sample_->fit.shape;
-    const QJsonObject fit{
-        {"centre_m", QString("%1,%2,%3")
-                         .arg(q.pose.translation().x())
-                         .arg(q.pose.translation().y())
-                         .arg(q.pose.translation().z())},
-        {"size_m", QString("%1,%2,%3").arg(q.size.x()).arg(q.size.y()).arg(q.size.z())},
-        {"eps1", q.eps1},
-        {"eps2", q.eps2},
-        {"rms_m", sample_->fit.rms_m},
-        {"points", int(sample_->points.size())},
-        {"robust", robust_->isChecked()}};
-    emit graspApproved(sample_->grasp,
-                       QString::fromUtf8(QJsonDocument(fit).toJson(QJsonDocument::Compact)));
+    emit graspRequested();
   });
   connect(growth_, &QTimer::timeout, this, [this] {
     if (shown_stage_ + 1 < stages_.size()) {
@@ -243,10 +230,11 @@ QPointF SamplingPanel::viewPointOf(double row, double col) const {
   return view_->toView(QPointF(col, row));
 }
 
-void SamplingPanel::setImage(sensor::StriperImage image) {
+void SamplingPanel::showImage(sensor::StriperImage image, sampling::FeatureMap features,
+                              std::vector<sampling::Seed> seeds) {
   image_ = std::move(image);
-  features_ = sampling::extractFeatures(*image_);
-  seeds_ = sampling::automaticSeeds(*image_, *features_);
+  features_ = std::move(features);
+  seeds_ = std::move(seeds);
   sample_.reset();
   stages_.clear();
   view_->image = intensityImage(*image_);
@@ -260,18 +248,16 @@ void SamplingPanel::setImage(sensor::StriperImage image) {
   showSample();
 }
 
-void SamplingPanel::fitAt(double row, double col) {
-  if (!image_) return;
-  sampling::SamplingOptions options;
-  options.fit.robust = robust_->isChecked();
-  stages_.clear();
-  try {
-    sample_ = sampling::sampleRock(*image_, *features_, {col, row}, options,
-                                   [this](const sampling::Contour& c) { stages_.push_back(c); });
-  } catch (const std::invalid_argument& e) {
-    sample_.reset();
+void SamplingPanel::showFit(std::optional<sampling::RockSample> sample,
+                            std::vector<sampling::Contour> stages, bool robust,
+                            const QString& failure) {
+  sample_ = std::move(sample);
+  stages_ = std::move(stages);
+  robust_fit_ = robust;
+  if (!sample_) {
+    growth_->stop();
     approve_->setEnabled(false);
-    info_->setText(tr("No fit: %1").arg(e.what()));
+    info_->setText(tr("No fit: %1").arg(failure));
     showSample();
     return;
   }
@@ -332,7 +318,7 @@ QString SamplingPanel::describeSample() const {
       tr("<b>Superquadric</b> (%1 LM on the radial distance%14, %2 points, %3 ms)<br>"
          "centre x %4, y %5, z %6 m<br>size %7 x %8 x %9 cm, roundness eps1 %10, eps2 %11<br>"
          "fit residual %12 mm rms, %13 % of the points kept")
-          .arg(robust_->isChecked() ? tr("robust") : tr("plain"))
+          .arg(robust_fit_ ? tr("robust") : tr("plain"))
           .arg(s.points.size())
           .arg(s.fit_ms, 0, 'f', 1)
           .arg(c.x(), 0, 'f', 3)

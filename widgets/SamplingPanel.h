@@ -20,12 +20,13 @@ namespace ambler::widgets {
 
 class StriperView;
 
-// Rock sampling (issue 8, cmu-1990 sampling paper): the light-striper's
-// intensity image with its features (shadows blue, range edges red,
-// creases yellow) and the automatic seeds (cyan); a click inside a rock
-// grows a contour (green, shown as it grows), fits a superquadric (magenta
-// wireframe over the image and over the rock's points in 3-D), plans the
-// clam-shell grasp and, once shown, offers it for approval.
+// Rock sampling (issue 8, cmu-1990 sampling paper): draws the
+// light-striper's intensity image with its features (shadows blue, range
+// edges red, creases yellow) and the automatic seeds (cyan); a click inside
+// a rock asks for a fit, whose contour is shown growing (green), then the
+// superquadric (magenta wireframe over the image and over the rock's points
+// in 3-D) and the clam-shell grasp, offered for approval. The work is
+// SamplingController's (app/gs).
 class SamplingPanel : public QWidget {
   Q_OBJECT
 
@@ -33,10 +34,13 @@ class SamplingPanel : public QWidget {
   explicit SamplingPanel(QWidget* parent = nullptr);
   ~SamplingPanel() override;
 
-  // A new image: features and automatic seeds are computed at once.
-  void setImage(sensor::StriperImage image);
-  // Contour, fit and grasp from the pixel (row, col); an error is shown.
-  void fitAt(double row, double col);
+  // A new image with its features and automatic seeds.
+  void showImage(sensor::StriperImage image, sampling::FeatureMap features,
+                 std::vector<sampling::Seed> seeds);
+  // A fit (its contour grows on screen through `stages`, then the fit and
+  // its grasp appear and can be approved), or none and why.
+  void showFit(std::optional<sampling::RockSample> sample, std::vector<sampling::Contour> stages,
+               bool robust, const QString& failure = {});
   void setSeed(quint64 seed);  // of the simulated tray shown
   // What came of an approved grasp (sent, or why not).
   void setGraspAnswer(const QString& text, bool ok);
@@ -53,7 +57,10 @@ class SamplingPanel : public QWidget {
 
  signals:
   void sceneRequested(quint64 seed);
-  void graspApproved(const sampling::GraspPlan& plan, const QString& fit_json);
+  // A click inside the image, or the robust switch with a fit shown.
+  void fitRequested(double row, double col, bool robust);
+  // The operator approved the grasp shown.
+  void graspRequested();
 
  private:
   void showSample();
@@ -74,6 +81,7 @@ class SamplingPanel : public QWidget {
   std::optional<sampling::RockSample> sample_;
   std::vector<sampling::Contour> stages_;  // the contour as it grew
   std::size_t shown_stage_ = 0;
+  bool robust_fit_ = true;  // how the shown fit was made
 };
 
 }  // namespace ambler::widgets

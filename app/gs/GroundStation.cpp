@@ -78,7 +78,7 @@ void GroundStation::wireWindow() {
 
   auto* sampling = window_.samplingPanel();
   connect(sampling, &widgets::SamplingPanel::sceneRequested, this, &GroundStation::showTray);
-  connect(sampling, &widgets::SamplingPanel::graspApproved, this,
+  connect(&sampling_, &SamplingController::graspApproved, this,
           [this, sampling](const sampling::GraspPlan& plan, const QString& fit) {
             if (timeline_) return sampling->setGraspAnswer(tr("a replay cannot command"), false);
             if (!session_ && report(openSession())) return;
@@ -119,7 +119,7 @@ void GroundStation::showTray(quint64 seed) {
   QApplication::setOverrideCursor(Qt::WaitCursor);
   const sim::ProceduralTerrain tray(
       sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
-  window_.samplingPanel()->setImage(sim::simulateStriper(tray, sim::StriperModel{}, seed).image);
+  sampling_.setImage(sim::simulateStriper(tray, sim::StriperModel{}, seed).image);
   window_.samplingPanel()->setSeed(seed);
   QApplication::restoreOverrideCursor();
   window_.showSamplingView();

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/gs/DangerController.h"
+#include "app/gs/SamplingController.h"
 #include "app/gs/SimulatorSource.h"
 #include "app/gs/WalkSession.h"
 #include "replay/MissionTimeline.h"
@@ -39,6 +40,7 @@ class GroundStation : public QObject {
 
   widgets::MainWindow& window() { return window_; }
   DangerController& danger() { return danger_; }
+  SamplingController& sampling() { return sampling_; }
   WalkSession* session() const { return session_.get(); }
   const replay::MissionTimeline* timeline() const { return timeline_.get(); }
 
@@ -74,6 +76,7 @@ class GroundStation : public QObject {
   StationOptions options_;
   widgets::MainWindow window_;
   DangerController danger_{*window_.dangerPanel()};
+  SamplingController sampling_{*window_.samplingPanel()};
   SimulatorSource simulator_;
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;

@@ -90,7 +90,8 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
     station.showTray(3);
     auto* sampling = window.samplingPanel();
     if (!sampling->seeds().empty())
-      sampling->fitAt(sampling->seeds().front().pixel.y(), sampling->seeds().front().pixel.x());
+      station.sampling().fitAt(sampling->seeds().front().pixel.y(),
+                               sampling->seeds().front().pixel.x(), true);
     window.showMeshView();
     QTimer::singleShot(3000, &station, [&, walk_s, done, started] {
       watchdog.stop();
