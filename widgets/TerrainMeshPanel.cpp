@@ -163,62 +163,40 @@ void TerrainMeshPanel::setScan(const sensor::RangeImage& scan) {
 }
 
 void TerrainMeshPanel::clearWalkScans() {
-  const bool shown = !registered_.empty();
+  const bool shown = !chain_.registered().empty();
   dropWalkScans();
   refresh();
   if (shown) emit overlayChanged();  // the 3-D view drops them too
 }
 
-void TerrainMeshPanel::dropWalkScans() {
-  waiting_.clear();
-  registered_.clear();
-  last_correction_ = Eigen::Isometry3d::Identity();
-  // A registration under way finishes into nothing: its result is dropped.
-  registering_.clear();
-}
+// A registration under way finishes into nothing: the chain drops it.
+void TerrainMeshPanel::dropWalkScans() { chain_.clear(); }
 
 void TerrainMeshPanel::addWalkScan(const sensor::RangeImage& scan) {
-  waiting_.push_back(scan.pointsInWorld());
-  if (!watcher_.isRunning()) registerNext();
+  chain_.add(scan.pointsInWorld());
+  registerNext();
   refresh();
 }
 
-// ICP takes about a second: off the GUI thread, one scan at a time.
+// ICP takes about a second: off the GUI thread, one scan at a time. A scan
+// that joins the chain (the reference at once, the others registered) is
+// merged into the mesh's cloud.
 void TerrainMeshPanel::registerNext() {
-  if (waiting_.empty()) return;
-  registering_ = std::move(waiting_.front());
-  waiting_.pop_front();
-  if (registered_.empty()) {  // the first scan is the reference
-    registered_.push_back(std::move(registering_));
-    last_correction_ = Eigen::Isometry3d::Identity();
-    last_icp_ = {};
-    useCloud(registered_.back());
-    return registerNext();
-  }
+  if (watcher_.isRunning()) return;
+  const std::size_t before = chain_.registered().size();
+  const auto job = chain_.next();
+  if (chain_.registered().size() != before) useCloud(chain_.merged());
+  if (!job) return;
   icp_start_ = std::chrono::steady_clock::now();
-  watcher_.setFuture(QtConcurrent::run(
-      [source = registering_, target = registered_.back()]() -> mapping::Registration {
-        try {
-          return mapping::registerIcp(source, target, Eigen::Isometry3d::Identity());
-        } catch (const std::exception&) {
-          return {};  // too few points: kept where dead reckoning put it
-        }
-      }));
+  watcher_.setFuture(QtConcurrent::run([job = *job] { return mapping::ScanChain::run(job); }));
 }
 
 void TerrainMeshPanel::takeRegistration() {
   icp_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - icp_start_)
                 .count();
-  if (!registering_.empty()) {
-    last_icp_ = watcher_.result();
-    last_correction_ = last_icp_.transform;
-    for (auto& p : registering_) p = last_correction_ * p;
-    registered_.push_back(std::move(registering_));
-    registering_.clear();
-    mapping::Cloud merged;
-    for (const auto& scan : registered_) merged.insert(merged.end(), scan.begin(), scan.end());
-    useCloud(std::move(merged));
-  }
+  const std::size_t before = chain_.registered().size();
+  chain_.finish(watcher_.result());  // dropped if the chain was cleared meanwhile
+  if (chain_.registered().size() != before) useCloud(chain_.merged());
   registerNext();
 }
 
@@ -230,7 +208,7 @@ void TerrainMeshPanel::useCloud(mapping::Cloud cloud) {
   // Meshing a full scan takes a fifth of a second: only when looked at.
   if (isVisible())
     buildMesh();
-  else if (had_overlay || !registered_.empty())
+  else if (had_overlay || !chain_.registered().empty())
     emit overlayChanged();  // the old mesh is gone; the scans changed
   refresh();
 }
@@ -309,21 +287,23 @@ void TerrainMeshPanel::refresh() {
   view_->path = path_ ? &*path_ : nullptr;
   view_->max_slope_deg = max_slope_->value();
   QString text;
-  if (registered_.size() > 1) {
-    const Eigen::Vector3d t = last_correction_.translation();
+  const auto& registered = chain_.registered();
+  if (registered.size() > 1) {
+    const Eigen::Isometry3d& correction = chain_.last().transform;
+    const Eigen::Vector3d t = correction.translation();
     text = tr("%1 walk scans registered and merged; the last moved %2 m and %3° by ICP "
               "(rms %4 cm, %5 s). ")
-               .arg(registered_.size())
+               .arg(registered.size())
                .arg(t.norm(), 0, 'f', 3)
-               .arg(Eigen::AngleAxisd(last_correction_.linear()).angle() * 180 / M_PI, 0, 'f', 2)
-               .arg(100 * last_icp_.rms_m, 0, 'f', 1)
+               .arg(Eigen::AngleAxisd(correction.linear()).angle() * 180 / M_PI, 0, 'f', 2)
+               .arg(100 * chain_.last().rms_m, 0, 'f', 1)
                .arg(icp_ms_ / 1000, 0, 'f', 1);
   }
-  if (!waiting_.empty() || watcher_.isRunning())
-    text += tr("Registering %1 scan(s)… ").arg(waiting_.size() + (watcher_.isRunning() ? 1 : 0));
+  if (chain_.waiting() > 0 || chain_.busy())
+    text += tr("Registering %1 scan(s)… ").arg(chain_.waiting() + (chain_.busy() ? 1 : 0));
   if (mesh_.size() > 0)
     text += tr("Mesh%1: %2 triangles, %3 vertices (%4 ms). ")
-                .arg(registered_.size() > 1 ? tr(" of the merged scans") : tr(" of the last scan"))
+                .arg(registered.size() > 1 ? tr(" of the merged scans") : tr(" of the last scan"))
                 .arg(mesh_.size())
                 .arg(mesh_.vertices.size())
                 .arg(mesh_ms_, 0, 'f', 0);

@@ -3,10 +3,10 @@
 #include <QFutureWatcher>
 #include <QWidget>
 #include <chrono>
-#include <deque>
 #include <optional>
 
 #include "mapping/Registration.h"
+#include "mapping/ScanChain.h"
 #include "mapping/TerrainMesh.h"
 #include "mapping/TerrainPath.h"
 #include "sensor/RangeImage.h"
@@ -42,9 +42,9 @@ class TerrainMeshPanel : public QWidget {
   void addWalkScan(const sensor::RangeImage& scan);
   void clearWalkScans();
   // The walk's scans registered so far, corrected, in the world frame.
-  const std::vector<mapping::Cloud>& registeredScans() const { return registered_; }
+  const std::vector<mapping::Cloud>& registeredScans() const { return chain_.registered(); }
   // The ICP correction of the last registered scan (identity for the first).
-  const Eigen::Isometry3d& lastCorrection() const { return last_correction_; }
+  const Eigen::Isometry3d& lastCorrection() const { return chain_.last().transform; }
   bool registering() const { return watcher_.isRunning(); }
   // Clicks in world coordinates [m], as the view passes them on.
   void pick(const Eigen::Vector2d& world_xy);
@@ -87,13 +87,8 @@ class TerrainMeshPanel : public QWidget {
   std::optional<Eigen::Vector2d> start_, goal_;
   std::optional<mapping::TerrainPath> path_;
   double path_ms_ = 0.0;
-  // The walk's scans: waiting, being registered, done.
-  std::deque<mapping::Cloud> waiting_;
+  mapping::ScanChain chain_;  // the walk's scans: waiting, being registered, done
   QFutureWatcher<mapping::Registration> watcher_;
-  mapping::Cloud registering_;
-  std::vector<mapping::Cloud> registered_;
-  Eigen::Isometry3d last_correction_ = Eigen::Isometry3d::Identity();
-  mapping::Registration last_icp_;
   double icp_ms_ = 0.0;
   std::chrono::steady_clock::time_point icp_start_;
 };

@@ -1,0 +1,51 @@
+#include "mapping/ScanChain.h"
+
+#include <stdexcept>
+
+namespace ambler::mapping {
+
+void ScanChain::add(Cloud scan) { waiting_.push_back(std::move(scan)); }
+
+std::optional<ScanChain::Job> ScanChain::next() {
+  if (in_flight_ || waiting_.empty()) return std::nullopt;
+  Cloud scan = std::move(waiting_.front());
+  waiting_.pop_front();
+  if (registered_.empty()) {
+    registered_.push_back(std::move(scan));
+    last_ = {};
+    return next();
+  }
+  in_flight_ = std::move(scan);
+  return Job{*in_flight_, registered_.back()};
+}
+
+void ScanChain::finish(const Registration& registration) {
+  if (!in_flight_) return;  // cleared while it ran
+  last_ = registration;
+  for (auto& p : *in_flight_) p = registration.transform * p;
+  registered_.push_back(std::move(*in_flight_));
+  in_flight_.reset();
+}
+
+void ScanChain::clear() {
+  waiting_.clear();
+  in_flight_.reset();
+  registered_.clear();
+  last_ = {};
+}
+
+Cloud ScanChain::merged() const {
+  Cloud all;
+  for (const auto& scan : registered_) all.insert(all.end(), scan.begin(), scan.end());
+  return all;
+}
+
+Registration ScanChain::run(const Job& job, const IcpOptions& options) {
+  try {
+    return registerIcp(job.source, job.target, Eigen::Isometry3d::Identity(), options);
+  } catch (const std::invalid_argument&) {
+    return {};
+  }
+}
+
+}  // namespace ambler::mapping
