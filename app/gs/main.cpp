@@ -10,10 +10,12 @@
 #include <QTimer>
 #include <algorithm>
 #include <iostream>
+#include <memory>
 #include <vector>
 
 #include "app/gs/EventLoopWatchdog.h"
 #include "app/gs/GroundStation.h"
+#include "app/gs/Soak.h"
 #include "core/Memory.h"
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
@@ -143,8 +145,14 @@ int main(int argc, char** argv) {
       "measure-responsiveness",
       "Run an auto-approved walk of 25 steps (or --walk N), a rock fit and the terrain mesh, "
       "measuring how late the GUI thread's event loop answers; print the stalls as JSON; quit.");
+  const QCommandLineOption soak_option(
+      "soak",
+      "A shift, accelerated: auto-approved walks on courses 1-10 in turn, each replayed and its "
+      "tabs gone through, until N steps are walked; print resident memory and stalls as JSON; "
+      "quit.",
+      "N");
   parser.addOptions({seed_option, screenshot_option, walk_option, replay_option, log_dir_option,
-                     startup_option, responsiveness_option});
+                     startup_option, responsiveness_option, soak_option});
   parser.process(app);
   bool seed_ok = false;
   const quint64 seed = parser.value(seed_option).toULongLong(&seed_ok);
@@ -178,6 +186,15 @@ int main(int argc, char** argv) {
   watchdog.start();
   if (parser.isSet(responsiveness_option))
     measureResponsiveness(station, watchdog, walk_steps > 0 ? walk_steps : 25);
+  std::unique_ptr<ambler::gs::Soak> soak;
+  if (parser.isSet(soak_option)) {
+    const int steps = parser.value(soak_option).toInt();
+    if (steps < 1 || steps > 100000) {
+      std::cerr << "ambler-gs: --soak must be an integer from 1 to 100000" << std::endl;
+      return 2;
+    }
+    soak = std::make_unique<ambler::gs::Soak>(station, watchdog, steps);
+  }
 
   if (parser.isSet(startup_option)) {
     // The first frame of the 3-D view, then the first scan in the views.
@@ -217,9 +234,10 @@ int main(int argc, char** argv) {
   // A replay shows the log alone: no simulated scan behind it.
   if (!parser.isSet(replay_option)) emit window.scanRequested(seed);
   if (parser.isSet(replay_option)) station.openLog(parser.value(replay_option));
-  if (walk_steps > 0 && !parser.isSet(responsiveness_option)) station.startWalk(walk_steps);
+  const bool scripted = parser.isSet(responsiveness_option) || parser.isSet(soak_option);
+  if (walk_steps > 0 && !scripted) station.startWalk(walk_steps);
   const int status = app.exec();
-  if (!parser.isSet(responsiveness_option)) {
+  if (!scripted) {
     std::cerr << "ambler-gs: event loop {";
     printStalls(watchdog.summary(), std::cerr);
     std::cerr << "}" << std::endl;

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <QElapsedTimer>
+#include <QObject>
+#include <QTimer>
+
+#include "app/gs/EventLoopWatchdog.h"
+#include "app/gs/GroundStation.h"
+
+namespace ambler::gs {
+
+// A shift, accelerated (ambler-gs --soak N): auto-approved walks of up to
+// 50 steps on courses 1-10 in turn, each followed by opening its log,
+// scrubbing the replay and going through the tabs, until N steps are
+// walked; resident memory is read after the walk that passes 200 steps and
+// at the end. Prints JSON and quits.
+class Soak : public QObject {
+  Q_OBJECT
+
+ public:
+  Soak(GroundStation& station, EventLoopWatchdog& watchdog, int steps);
+
+ private:
+  void startWalk();
+  void poll();
+  void replay();
+  void finish();
+
+  GroundStation& station_;
+  EventLoopWatchdog& watchdog_;
+  int target_steps_;
+  int steps_ = 0, walks_ = 0;
+  double rss_at_200_mb_ = -1.0;
+  QTimer poll_;
+  QElapsedTimer clock_;
+  bool started_ = false;
+};
+
+// Resident memory of this process [MB], from /proc/self/statm.
+double residentMb();
+
+}  // namespace ambler::gs
