@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/Format.h"
+
 namespace ambler::executive {
 
 Eigen::Isometry3d PoseCorrection::transform() const {
@@ -57,14 +59,6 @@ void validate(const ScanMatchOptions& o) {
 }
 
 namespace {
-
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
 
 struct MapSample {
   double height, sigma;

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <vector>
 
+#include "core/Format.h"
+
 namespace ambler::replay {
 
 std::string describeCommand(const link::CommandBody& body) {
@@ -75,14 +77,6 @@ void CommandTable::noted(double time_s, const std::string& what) {
 }
 
 namespace {
-
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
 
 // "(1.20, 3.40, -0.05) m" from a JSON array, or from a "1.2,3.4,-0.05" string.
 std::string triple(const nlohmann::json& j) {

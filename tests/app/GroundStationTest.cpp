@@ -32,6 +32,7 @@
 #include "sim/CourseScene.h"
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
+#include "tests/app/TestStation.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/DangerPanel.h"
 #include "widgets/MapView.h"
@@ -51,19 +52,7 @@ using ambler::widgets::StepApprovalPanel;
 
 namespace {
 
-ambler::gs::StationOptions options(const QString& log_dir) {
-  static const auto ground = ambler::gait::readInstalledGaitContext();
-  static const auto simulator = ambler::rover::readInstalledSimulatedRoverConfig();
-  static const auto scanner =
-      ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
-  ambler::gs::StationOptions o;
-  o.operator_id = "alice";
-  o.log_dir = log_dir;
-  o.ground = ground;
-  o.simulator = simulator;
-  o.scanner = scanner;
-  return o;
-}
+using ambler::gs::test::options;
 
 // The station as an operator has it: the main window shown, its logs in a
 // folder of the test's own.

@@ -22,6 +22,7 @@
 #include "link/Signing.h"
 #include "missionlog/MissionLog.h"
 #include "sim/ScannerSim.h"
+#include "tests/app/TestStation.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/StepApprovalPanel.h"
 
@@ -50,15 +51,7 @@ int firstRow(const ambler::widgets::CommandLogView& table, int from, const QStri
   return -1;
 }
 
-ambler::gs::StationOptions options(const QString& log_dir) {
-  ambler::gs::StationOptions o;
-  o.operator_id = "alice";
-  o.log_dir = log_dir;
-  o.ground = ambler::gait::readInstalledGaitContext();
-  o.simulator = ambler::rover::readInstalledSimulatedRoverConfig();
-  o.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
-  return o;
-}
+using ambler::gs::test::options;
 
 }  // namespace
 

@@ -22,19 +22,12 @@
 #include "app/gs/GroundStation.h"
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
+#include "tests/app/TestStation.h"
 #include "widgets/StepApprovalPanel.h"
 
 namespace {
 
-ambler::gs::StationOptions options(const QString& log_dir) {
-  ambler::gs::StationOptions o;
-  o.operator_id = "alice";
-  o.log_dir = log_dir;
-  o.ground = ambler::gait::readInstalledGaitContext();
-  o.simulator = ambler::rover::readInstalledSimulatedRoverConfig();
-  o.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
-  return o;
-}
+using ambler::gs::test::options;
 
 QString describe(const QRect& r) {
   return QString("%1 x %2 at (%3, %4)").arg(r.width()).arg(r.height()).arg(r.x()).arg(r.y());
