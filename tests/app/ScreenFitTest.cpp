@@ -114,15 +114,17 @@ class ScreenFitTest : public QObject {
   }
 
   // What the operator reaches for stays where it is: the docks and the views
-  // keep their geometry from 1 s after launch through a walk's first steps
-  // and the auto-approve switch.
+  // keep their geometry from 1 s after the first scan is shown through a
+  // walk's first steps and the auto-approve switch.
   void theLayoutDoesNotMoveUnderTheOperatorsHand() {
     QTemporaryDir logs;
     ambler::gs::GroundStation station(options(logs.path()));
     auto& window = station.window();
     window.show();
     QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QSignalSpy scanned(&window, &ambler::widgets::MainWindow::scanShown);
     emit window.scanRequested(1);
+    QVERIFY(scanned.wait(30000));
     QTest::qWait(1000);
     const auto layout = [&] {
       QStringList parts;
