@@ -193,6 +193,7 @@ void GroundStation::startWalk(int steps) {
   if (!session_ && report(openSession())) return;
   session_start_s_ = missionlog::groundClockS();
   history_.clear();
+  map_changed_ = true;  // each walk maps afresh: the last walk's map goes
   window_.meshPanel()->clearWalkScans();
   session_->start(steps);
 }
