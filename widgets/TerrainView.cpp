@@ -99,8 +99,9 @@ void TerrainView::setScene(const ScanDisplay& display) {
   rebuild();  // at once: the first scan's frame is what a launch waits for
 }
 
-void TerrainView::clearScan() {
+void TerrainView::clear() {
   display_.reset();
+  map_ground_.reset();
   mesh_outlines_.clear();
   mesh_path_.clear();
   registered_.clear();
@@ -213,9 +214,9 @@ void TerrainView::scheduleRebuild() {
 
 void TerrainView::rebuild() {
   rebuild_pending_ = false;
-  if (!display_ && !map_ground_) return;
   auto* renderer = view_->renderer();
   view_->clear();
+  if (!display_ && !map_ground_) return view_->render();  // nothing: not the old scene
 
   const auto& [grid, ground] =
       map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};

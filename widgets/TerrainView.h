@@ -31,9 +31,9 @@ class TerrainView : public QWidget {
   explicit TerrainView(QWidget* parent = nullptr);
 
   void setScene(const ScanDisplay& display);
-  // Drops the scan, its mesh overlay and registered scans (a replay shows
-  // only the log's map and rover).
-  void clearScan();
+  // Drops the scan, the map, the mesh overlay and registered scans: a
+  // replay shows only the log's state, nothing before its first scan.
+  void clear();
   // The terrain map around the rover (±10 m) replaces the simulated ground.
   void setMap(const terrain::ElevationMap& map);
   // The rover (body, legs by forward kinematics) and the proposal's foothold.

@@ -320,7 +320,7 @@ void GroundStation::finishOpening() {
   // Only the log's state from here on: nothing of the live session stays.
   history_.clear();
   window_.meshPanel()->clearWalkScans();
-  window_.terrainView()->clearScan();
+  window_.terrainView()->clear();
   window_.approvalPanel()->setResumable(false);
   window_.commandLog()->setRows(timeline_->rows());
   window_.telemetry()->setHistory(replay_history_, timeline_->firstS());
@@ -351,6 +351,7 @@ void GroundStation::showReplayAt(double time_s) {
   } else {
     map_view->setMap(terrain::ElevationMap(
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
+    window_.terrainView()->clear();
   }
   window_.terrainView()->setRover(stance, options_.ground.model, std::nullopt);
   auto* panel = window_.approvalPanel();

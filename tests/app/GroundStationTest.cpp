@@ -346,6 +346,8 @@ class GroundStationTest : public QObject {
     QVERIFY(!c.station.window().walkAction()->isEnabled());  // a replay commands nothing
     auto* bar = c.station.window().timeline();
     QCOMPARE(c.map.map()->knownCount(), 0);  // the start: before the first scan
+    // Nor does the 3-D view keep the live walk's terrain then.
+    QTRY_COMPARE(c.station.window().terrainView()->view()->visibleCells(), 0LL);
 
     // Drag the slider to just after the first scan: that scan's map.
     const auto& first = timeline->maps().front();
