@@ -1,5 +1,7 @@
 #include "rendering/VtkView.h"
 
+#include <algorithm>
+
 #include <vtkActor.h>
 #include <vtkActorCollection.h>
 #include <vtkCallbackCommand.h>
@@ -79,6 +81,16 @@ void VtkView::addWithStandIn(vtkProp* detailed, vtkProp* stand_in) {
   detailed->SetVisibility(!camera_moving_);
   stand_in->SetVisibility(camera_moving_);
   detail_.emplace_back(detailed, stand_in);
+}
+
+void VtkView::remove(vtkProp* prop) {
+  renderer_->RemoveViewProp(prop);
+  const auto pair = std::find_if(detail_.begin(), detail_.end(), [prop](const auto& p) {
+    return p.first == prop || p.second == prop;
+  });
+  if (pair == detail_.end()) return;
+  renderer_->RemoveViewProp(pair->first == prop ? pair->second : pair->first);
+  detail_.erase(pair);
 }
 
 void VtkView::clear() {

@@ -37,6 +37,9 @@ class VtkView : public QOpenGLWidget {
   // view keeps up on software OpenGL (llvmpipe: ~2 fps at 1 M triangles).
   // Both join the renderer.
   void addWithStandIn(vtkProp* detailed, vtkProp* stand_in);
+  // Removes `prop` and, when it has one, its stand-in (or the prop it
+  // stands in for).
+  void remove(vtkProp* prop);
   // Removes every prop, stand-ins included.
   void clear();
   bool cameraMoving() const { return camera_moving_; }

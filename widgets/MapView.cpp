@@ -78,7 +78,13 @@ void MapView::setProposal(const std::optional<executive::StepProposal>& proposal
 }
 
 void MapView::setStance(const std::optional<gait::Stance>& stance) {
+  const Box2 before = viewBox();
   stance_ = stance;
+  const Box2 after = viewBox();
+  // The feet and the CSP are drawn over the map: only a view that follows
+  // the rover elsewhere needs the map coloured again.
+  if (!colored_.isNull() && after.x_min == before.x_min && after.y_min == before.y_min)
+    return update();
   recolor();
 }
 
@@ -174,7 +180,8 @@ void MapView::recolor() {
     hi_ = std::max(hi_, lo_ + 1e-3);
   }
   colored_ = QImage(cols, rows, QImage::Format_RGB32);
-  for (int r = 0; r < rows; ++r)
+  for (int r = 0; r < rows; ++r) {
+    auto* line = reinterpret_cast<QRgb*>(colored_.scanLine(r));
     for (int c = 0; c < cols; ++c) {
       const Eigen::Vector2d w = worldAt(r, c);
       const auto cell = g.cellAt(w.x(), w.y());
@@ -184,8 +191,9 @@ void MapView::recolor() {
         color = std::isfinite(v) ? toQColor(rendering::viridis((v - lo_) / (hi_ - lo_)))
                                  : kCannotStandColor;
       }
-      colored_.setPixelColor(c, r, color);
+      line[c] = color.rgb();
     }
+  }
   update();
 }
 

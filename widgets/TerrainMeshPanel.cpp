@@ -152,6 +152,10 @@ TerrainMeshPanel::TerrainMeshPanel(QWidget* parent)
   view_->clicked = [this](const Eigen::Vector2d& xy) { pick(xy); };
   connect(cost_, &QComboBox::currentIndexChanged, this, [this] { plan(); });
   connect(max_slope_, &QDoubleSpinBox::valueChanged, this, [this] { plan(); });
+  // The chain is bookkeeping for this tab: it waits while the operator's
+  // views and the walk need the cores.
+  background_.setMaxThreadCount(1);
+  background_.setThreadPriority(QThread::IdlePriority);
   connect(&watcher_, &QFutureWatcher<mapping::Registration>::finished, this,
           &TerrainMeshPanel::takeRegistration);
   refresh();
@@ -188,7 +192,8 @@ void TerrainMeshPanel::registerNext() {
   if (chain_.registered().size() != before) useCloud(chain_.merged());
   if (!job) return;
   icp_start_ = std::chrono::steady_clock::now();
-  watcher_.setFuture(QtConcurrent::run([job = *job] { return mapping::ScanChain::run(job); }));
+  watcher_.setFuture(
+      QtConcurrent::run(&background_, [job = *job] { return mapping::ScanChain::run(job); }));
 }
 
 void TerrainMeshPanel::takeRegistration() {

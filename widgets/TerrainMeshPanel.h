@@ -1,6 +1,7 @@
 #pragma once
 
 #include <QFutureWatcher>
+#include <QThreadPool>
 #include <QWidget>
 #include <chrono>
 #include <optional>
@@ -88,6 +89,7 @@ class TerrainMeshPanel : public QWidget {
   std::optional<mapping::TerrainPath> path_;
   double path_ms_ = 0.0;
   mapping::ScanChain chain_;  // the walk's scans: waiting, being registered, done
+  QThreadPool background_;
   QFutureWatcher<mapping::Registration> watcher_;
   double icp_ms_ = 0.0;
   std::chrono::steady_clock::time_point icp_start_;

@@ -39,15 +39,17 @@ TerrainView::TerrainView(QWidget* parent)
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(view_, 1);
   layout->addLayout(options);
-  connect(show_points_, &QCheckBox::toggled, this, [this] { scheduleRebuild(); });
-  connect(show_mesh_, &QCheckBox::toggled, this, [this] { scheduleRebuild(); });
+  connect(show_points_, &QCheckBox::toggled, this, [this] {
+    scheduleRebuild({kGround, kOverlay});
+  });
+  connect(show_mesh_, &QCheckBox::toggled, this, [this] { scheduleRebuild({kOverlay}); });
 }
 
 void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
                                  std::vector<Eigen::Vector3d> path) {
   mesh_outlines_ = std::move(outlines);
   mesh_path_ = std::move(path);
-  scheduleRebuild();
+  scheduleRebuild({kOverlay});
 }
 
 void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans) {
@@ -58,12 +60,12 @@ void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector
     for (std::size_t i = 0; i < scan.size(); i += k) few.push_back(scan[i].cast<float>());
     registered_.push_back(std::move(few));
   }
-  scheduleRebuild();
+  scheduleRebuild({kOverlay});
 }
 
 // One colour per scan, in the order they came, so that where two overlap
 // the operator sees whether they agree.
-void TerrainView::addRegisteredScans(vtkRenderer* renderer) const {
+void TerrainView::addRegisteredScans() {
   if (!show_points_->isChecked()) return;
   static const std::array<std::array<double, 3>, 6> kColours{{{1.0, 0.55, 0.1},
                                                               {0.2, 0.8, 1.0},
@@ -73,12 +75,12 @@ void TerrainView::addRegisteredScans(vtkRenderer* renderer) const {
                                                               {0.6, 0.6, 1.0}}};
   for (std::size_t i = 0; i < registered_.size(); ++i) {
     const auto& c = kColours[i % kColours.size()];
-    renderer->AddActor(rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
+    show(kOverlay, rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
   }
 }
 
 // Lifted a few centimetres so the ground surface does not hide them.
-void TerrainView::addMeshOverlay(vtkRenderer* renderer) const {
+void TerrainView::addMeshOverlay() {
   if (!show_mesh_->isChecked()) return;
   const Eigen::Vector3d lift(0, 0, 0.03);
   auto lifted = [&](std::vector<Eigen::Vector3d> line) {
@@ -88,14 +90,15 @@ void TerrainView::addMeshOverlay(vtkRenderer* renderer) const {
   if (!mesh_outlines_.empty()) {
     std::vector<std::vector<Eigen::Vector3d>> outlines;
     for (const auto& o : mesh_outlines_) outlines.push_back(lifted(o));
-    renderer->AddActor(rendering::makePolylines(outlines, {0.8, 0.8, 0.8}, 1.0f));
+    show(kOverlay, rendering::makePolylines(outlines, {0.8, 0.8, 0.8}, 1.0f));
   }
   if (mesh_path_.size() >= 2)
-    renderer->AddActor(rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
+    show(kOverlay, rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
 }
 
 void TerrainView::setScene(const ScanDisplay& display) {
   display_ = display;
+  stale_[kGround] = true;
   rebuild();  // at once: the first scan's frame is what a launch waits for
 }
 
@@ -105,7 +108,7 @@ void TerrainView::clear() {
   mesh_outlines_.clear();
   mesh_path_.clear();
   registered_.clear();
-  scheduleRebuild();
+  scheduleRebuild({kGround, kOverlay});
 }
 
 void TerrainView::setMap(const terrain::ElevationMap& map) {
@@ -130,7 +133,7 @@ void TerrainView::setMap(const terrain::ElevationMap& map) {
   for (int r = 0; r < sub.rows; ++r)
     for (int c = 0; c < sub.cols; ++c) z(r, c) = map.elevation(r0 + r, c0 + c);
   map_ground_ = std::pair{sub, std::move(z)};
-  scheduleRebuild();
+  scheduleRebuild({kGround});
 }
 
 void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
@@ -138,14 +141,14 @@ void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait
   stance_ = proposal ? std::optional(proposal->from) : stance;
   model_ = model;
   proposal_ = proposal;
-  scheduleRebuild();
+  scheduleRebuild({kRover});
 }
 
 // The body as its keep-out box at the link plane, each leg as its shaft,
 // horizontal link and vertical link down to the foot; supporting feet
 // white, lifted ones orange; the conservative support polygon in cyan just
 // above the feet.
-void TerrainView::addRover(vtkRenderer* renderer) const {
+void TerrainView::addRover() {
   if (!stance_) return;
   const auto& body = stance_->body;
   const auto& h = model_.body_keepout_half;
@@ -163,12 +166,12 @@ void TerrainView::addRover(vtkRenderer* renderer) const {
                     body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.0)),
                     body.toWorld(Eigen::Vector3d(foot_b.x(), foot_b.y(), 0.0)), foot});
     const bool supporting = stance_->supporting[std::size_t(leg)];
-    renderer->AddActor(rendering::makeSphere(
-        foot, 0.15,
-        supporting ? Eigen::Vector3d(0.95, 0.95, 0.95) : Eigen::Vector3d(1.0, 0.6, 0.1)));
+    show(kRover, rendering::makeSphere(foot, 0.15,
+                                       supporting ? Eigen::Vector3d(0.95, 0.95, 0.95)
+                                                  : Eigen::Vector3d(1.0, 0.6, 0.1)));
   }
-  renderer->AddActor(rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
-  renderer->AddActor(rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
+  show(kRover, rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
+  show(kRover, rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
   std::vector<Eigen::Vector2d> supporting;
   double z_sum = 0.0;
   for (int leg = 0; leg < gait::kLegCount; ++leg)
@@ -182,83 +185,74 @@ void TerrainView::addRover(vtkRenderer* renderer) const {
     csp.push_back({v.x(), v.y(), z + 0.05});
   if (csp.size() >= 3) {
     csp.push_back(csp.front());
-    renderer->AddActor(rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
+    show(kRover, rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
   }
 }
 
 // The recovering leg's foot trajectory and foothold (red) and the body's
 // path at the link plane (white).
-void TerrainView::addProposal(vtkRenderer* renderer) const {
+void TerrainView::addProposal() {
   if (!proposal_) return;
   const auto& plan = proposal_->plan;
   if (plan.leg >= 0) {
-    renderer->AddActor(rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
+    show(kRover, rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
     if (plan.recovery.found)
-      renderer->AddActor(rendering::makePolylines(
-          {gait::footPath(model_, proposal_->from, plan.leg, plan.recovery, plan.foothold)},
-          {1.0, 0.35, 0.35}, 3.0f));
+      show(kRover, rendering::makePolylines({gait::footPath(model_, proposal_->from, plan.leg,
+                                                            plan.recovery, plan.foothold)},
+                                            {1.0, 0.35, 0.35}, 3.0f));
   }
   std::vector<Eigen::Vector3d> body;
   for (const auto& pose : plan.body_path) body.push_back({pose.xy.x(), pose.xy.y(), pose.link_z});
-  renderer->AddActor(rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
+  show(kRover, rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
 }
 
 // Changes that come together (the map, the rover, the proposal after a
-// step) cost one rebuild of the scene, once the event loop is free.
-void TerrainView::scheduleRebuild() {
+// step) cost one rebuild of the layers they touch, once the event loop is
+// free.
+void TerrainView::scheduleRebuild(std::initializer_list<Layer> layers) {
+  for (Layer layer : layers) stale_[layer] = true;
   if (std::exchange(rebuild_pending_, true)) return;
   QTimer::singleShot(0, this, [this] {
     if (rebuild_pending_) rebuild();
   });
 }
 
+void TerrainView::show(Layer layer, vtkProp* prop) {
+  view_->renderer()->AddViewProp(prop);
+  props_[layer].push_back(prop);
+}
+
+void TerrainView::showWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in) {
+  view_->addWithStandIn(detailed, stand_in);
+  props_[layer].push_back(detailed);
+}
+
 void TerrainView::rebuild() {
   rebuild_pending_ = false;
-  auto* renderer = view_->renderer();
-  view_->clear();
-  if (!display_ && !map_ground_) return view_->render();  // nothing: not the old scene
-
-  const auto& [grid, ground] =
-      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
-  float lo = INFINITY, hi = -INFINITY;
-  for (float v : ground.pixels)
-    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-  auto table = rendering::makeViridisTable(lo, hi);
-  if (grid.cellCount() > kDetailLimit) {
-    const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);
-    view_->addWithStandIn(rendering::makeHeightSurface(grid, ground, table),
-                          rendering::makeHeightSurface(thin_grid, thin, table));
-  } else {
-    renderer->AddActor(rendering::makeHeightSurface(grid, ground, table));
-  }
-  renderer->AddActor2D(rendering::makeColorBar(
-      table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]", devicePixelRatioF()));
-
-  if (display_ && show_points_->isChecked()) {
-    const auto& scan = display_->scan;
-    std::vector<Eigen::Vector3f> points;
-    points.reserve(scan.range.size());
-    for (int r = 0; r < scan.rows(); ++r)
-      for (int c = 0; c < scan.cols(); ++c)
-        if (scan.hasReturn(r, c)) points.push_back(scan.pointInWorld(r, c).cast<float>());
-    auto cloud = rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f);
-    cloud->GetProperty()->SetOpacity(0.35);  // the surface shows through
-    if (points.size() > std::size_t(kDetailLimit)) {
-      const std::size_t k = (points.size() + kDetailLimit - 1) / kDetailLimit;
-      std::vector<Eigen::Vector3f> few;
-      for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
-      auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
-      stand_in->GetProperty()->SetOpacity(0.35);
-      view_->addWithStandIn(cloud, stand_in);
-    } else {
-      renderer->AddActor(cloud);
+  const bool empty = !display_ && !map_ground_;
+  for (int layer = 0; layer < kLayerCount; ++layer) {
+    if (!std::exchange(stale_[layer], false) && !empty) continue;
+    for (vtkProp* prop : props_[layer]) view_->remove(prop);
+    props_[layer].clear();
+    if (empty) continue;  // nothing: not the old scene
+    switch (Layer(layer)) {
+      case kGround:
+        addGround();
+        addScanPoints();
+        break;
+      case kRover:
+        addRover();
+        addProposal();
+        break;
+      case kOverlay:
+        addMeshOverlay();
+        addRegisteredScans();
+        break;
+      case kLayerCount:
+        break;
     }
   }
-  addRover(renderer);
-  addProposal(renderer);
-  addMeshOverlay(renderer);
-  addRegisteredScans(renderer);
-
+  if (empty) return view_->render();
   if (!camera_placed_) {
     if (display_) {
       const auto pose = display_->scan.sensor_to_world;
@@ -269,8 +263,47 @@ void TerrainView::rebuild() {
                   b.toWorld(Eigen::Vector3d(0, 1, 0)) - b.toWorld(Eigen::Vector3d(0, 0, 0)));
     }
   }
-  renderer->ResetCameraClippingRange();
+  view_->renderer()->ResetCameraClippingRange();
   view_->render();
+}
+
+// The map's window or the simulated ground, coloured by elevation, with
+// its colour bar.
+void TerrainView::addGround() {
+  const auto& [grid, ground] =
+      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
+  float lo = INFINITY, hi = -INFINITY;
+  for (float v : ground.pixels)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  auto table = rendering::makeViridisTable(lo, hi);
+  if (grid.cellCount() > kDetailLimit) {
+    const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);
+    showWithStandIn(kGround, rendering::makeHeightSurface(grid, ground, table),
+                    rendering::makeHeightSurface(thin_grid, thin, table));
+  } else {
+    show(kGround, rendering::makeHeightSurface(grid, ground, table));
+  }
+  show(kGround, rendering::makeColorBar(table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]",
+                                        devicePixelRatioF()));
+}
+
+void TerrainView::addScanPoints() {
+  if (!display_ || !show_points_->isChecked()) return;
+  const auto& scan = display_->scan;
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(scan.range.size());
+  for (int r = 0; r < scan.rows(); ++r)
+    for (int c = 0; c < scan.cols(); ++c)
+      if (scan.hasReturn(r, c)) points.push_back(scan.pointInWorld(r, c).cast<float>());
+  auto cloud = rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f);
+  cloud->GetProperty()->SetOpacity(0.35);  // the surface shows through
+  if (points.size() <= std::size_t(kDetailLimit)) return show(kGround, cloud);
+  const std::size_t k = (points.size() + kDetailLimit - 1) / kDetailLimit;
+  std::vector<Eigen::Vector3f> few;
+  for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
+  auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
+  stand_in->GetProperty()->SetOpacity(0.35);
+  showWithStandIn(kGround, cloud, stand_in);
 }
 
 // Behind and above the sensor (or body), looking along `ahead`, far enough

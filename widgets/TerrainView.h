@@ -1,14 +1,17 @@
 #pragma once
 
 #include <QWidget>
+#include <array>
+#include <initializer_list>
 #include <optional>
+#include <vector>
 
 #include "executive/ApprovalGate.h"
 #include "terrain/ElevationMap.h"
 #include "widgets/ScanDisplay.h"
 
 class QCheckBox;
-class vtkRenderer;
+class vtkProp;
 
 namespace ambler::rendering {
 class VtkView;
@@ -53,12 +56,19 @@ class TerrainView : public QWidget {
   QSize sizeHint() const override { return {640, 480}; }
 
  private:
-  void scheduleRebuild();
+  // The scene in layers, each rebuilt only when what it draws changed: a
+  // step's new stance does not rebuild the ground's surface.
+  enum Layer { kGround, kRover, kOverlay, kLayerCount };
+  void scheduleRebuild(std::initializer_list<Layer> layers);
   void rebuild();
-  void addRover(vtkRenderer* renderer) const;
-  void addProposal(vtkRenderer* renderer) const;
-  void addMeshOverlay(vtkRenderer* renderer) const;
-  void addRegisteredScans(vtkRenderer* renderer) const;
+  void show(Layer layer, vtkProp* prop);
+  void showWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in);
+  void addGround();
+  void addScanPoints();
+  void addRover();
+  void addProposal();
+  void addMeshOverlay();
+  void addRegisteredScans();
   void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
 
   rendering::VtkView* view_;
@@ -74,6 +84,8 @@ class TerrainView : public QWidget {
   std::optional<executive::StepProposal> proposal_;
   bool camera_placed_ = false;
   bool rebuild_pending_ = false;
+  std::array<std::vector<vtkProp*>, kLayerCount> props_;  // owned by the renderer
+  std::array<bool, kLayerCount> stale_{};
 };
 
 }  // namespace ambler::widgets

@@ -9,8 +9,7 @@
 #include <utility>
 
 #include "app/gs/DdsConnection.h"
-#include "sim/ObstacleCourse.h"
-#include "sim/StriperSim.h"
+#include "missionlog/ReplayLinks.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
 #include "widgets/SamplingPanel.h"
@@ -21,6 +20,16 @@
 #include "widgets/TimelineBar.h"
 
 namespace ambler::gs {
+
+namespace {
+
+bool sameStance(const std::optional<gait::Stance>& a, const std::optional<gait::Stance>& b) {
+  if (!a || !b) return a.has_value() == b.has_value();
+  return a->body.xy == b->body.xy && a->body.heading_rad == b->body.heading_rad &&
+         a->body.link_z == b->body.link_z && a->feet == b->feet && a->supporting == b->supporting;
+}
+
+}  // namespace
 
 GroundStation::GroundStation(StationOptions options, QObject* parent)
     : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
@@ -77,33 +86,24 @@ void GroundStation::wireWindow() {
           &GroundStation::showReplayAt);
 
   auto* sampling = window_.samplingPanel();
-  connect(sampling, &widgets::SamplingPanel::sceneRequested, this, &GroundStation::showTray);
   connect(&sampling_, &SamplingController::graspApproved, this,
           [this, sampling](const sampling::GraspPlan& plan, const QString& fit) {
             if (timeline_) return sampling->setGraspAnswer(tr("a replay cannot command"), false);
             if (!session_ && report(openSession())) return;
-            const auto sent = session_->sendGrasp(plan, fit.toStdString());
-            sampling->setGraspAnswer(
-                sent.refused()
-                    ? tr("Not sent: %1").arg(QString::fromStdString(sent.why()))
-                    : tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
-                          .arg(options_.operator_id),
-                !sent.refused());
+            sampling->setGraspAnswer(tr("Sending the grasp…"), false);
+            session_->sendGrasp(plan, fit.toStdString());
           });
 
   auto* panel = window_.approvalPanel();
   connect(window_.mapView(), &widgets::MapView::footholdClicked, this,
           [this](quint64 id, double x, double y) {
-            if (!session_) return;
-            if (const auto edit = session_->editFoothold(id, x, y); edit.refused())
-              window_.setStatus(QString::fromStdString(edit.why()));
+            if (session_) session_->editFoothold(id, x, y);
           });
   connect(panel, &widgets::StepApprovalPanel::approveRequested, this, [this](quint64 id) {
-    if (!session_) return;
-    report(session_->approve(id));
+    if (session_) session_->approve(id);
   });
   connect(panel, &widgets::StepApprovalPanel::rejectRequested, this, [this](quint64 id) {
-    if (session_) report(session_->reject(id, tr("rejected by %1").arg(options_.operator_id)));
+    if (session_) session_->reject(id, tr("rejected by %1").arg(options_.operator_id));
   });
   connect(panel, &widgets::StepApprovalPanel::resumeRequested, this, [this] {
     if (session_ && !timeline_) session_->resume();
@@ -113,16 +113,9 @@ void GroundStation::wireWindow() {
   });
 }
 
-// The sampling testbed's tray, simulated: rocks from resting on the sand to
-// half buried, seen by the light-striper.
 void GroundStation::showTray(quint64 seed) {
-  QApplication::setOverrideCursor(Qt::WaitCursor);
-  const sim::ProceduralTerrain tray(
-      sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
-  sampling_.setImage(sim::simulateStriper(tray, sim::StriperModel{}, seed).image);
-  window_.samplingPanel()->setSeed(seed);
-  QApplication::restoreOverrideCursor();
   window_.showSamplingView();
+  sampling_.simulateTray(seed);
 }
 
 QString GroundStation::newLogPath() const {
@@ -139,6 +132,7 @@ Refusal GroundStation::connectTo(const widgets::ConnectChoice& choice) {
     return {};
   }
   session_.reset();
+  shown_.reset();
   timeline_.reset();
   window_.setReplay({});
   history_.clear();
@@ -165,6 +159,19 @@ Refusal GroundStation::openSession() {
   connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
   connect(session_.get(), &WalkSession::eventNoted, this,
           [this](const QString& what) { window_.setStatus(tr("Walk: %1").arg(what)); });
+  connect(session_.get(), &WalkSession::refused, this,
+          [this](OperatorAction action, const QString& why) {
+            if (action == OperatorAction::kEditFoothold) return window_.setStatus(why);
+            if (action == OperatorAction::kGrasp)
+              return window_.samplingPanel()->setGraspAnswer(tr("Not sent: %1").arg(why), false);
+            window_.showError(why);
+          });
+  connect(session_.get(), &WalkSession::graspSent, this, [this] {
+    window_.samplingPanel()->setGraspAnswer(
+        tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
+            .arg(options_.operator_id),
+        true);
+  });
   connect(session_.get(), &WalkSession::graspAnswered, this,
           [this](bool accepted, const QString& reason) {
             window_.samplingPanel()->setGraspAnswer(
@@ -174,8 +181,7 @@ Refusal GroundStation::openSession() {
           });
   connect(session_.get(), &WalkSession::scanMapped, window_.meshPanel(),
           &widgets::TerrainMeshPanel::addWalkScan);
-  connect(session_.get(), &WalkSession::scanMapped, this, [this] { map_changed_ = true; });
-  map_changed_ = true;
+  shown_.reset();
   // The switch the operator sees decides, whenever the session was made.
   session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());
   showSession();
@@ -193,59 +199,73 @@ void GroundStation::startWalk(int steps) {
   if (!session_ && report(openSession())) return;
   session_start_s_ = missionlog::groundClockS();
   history_.clear();
-  map_changed_ = true;  // each walk maps afresh: the last walk's map goes
+  // Each walk maps afresh: the last walk's map goes at once, before the
+  // session's thread tells the new one.
+  const executive::ExecutiveOptions walk;
+  window_.mapView()->setMap(
+      terrain::ElevationMap(GridSpec::covering(walk.map_extent, walk.map_resolution_m)));
+  window_.terrainView()->clear();
   window_.meshPanel()->clearWalkScans();
   session_->start(steps);
 }
 
+// Draws what changed since the state shown before: a view redrawn with
+// what it already shows stalls the GUI for nothing.
 void GroundStation::showSession() {
   if (!session_ || timeline_) return;
-  const auto& exec = session_->executive();
-  auto* panel = window_.approvalPanel();
+  const auto& state = session_->state();
+  const WalkState* before = shown_.get();
   showWalkState();
-  panel->showProposal(session_->pending());
-  if (std::exchange(map_changed_, false)) {  // redrawing an unchanged map stalls the GUI
-    window_.mapView()->setMap(exec.map());
-    window_.terrainView()->setMap(exec.map());
+  if (state.map && (!before || before->map != state.map)) {
+    window_.mapView()->setMap(*state.map);
+    window_.terrainView()->setMap(*state.map);
   }
-  window_.mapView()->setProposal(session_->pending());
-  window_.mapView()->setStance(exec.reported());
-  window_.terrainView()->setRover(exec.reported(), options_.ground.model, session_->pending());
-  window_.commandLog()->setRows(session_->commandRows());
-  refreshTelemetry();
-  if (session_->pending()) emit proposalShown();
+  const bool proposal = !before || before->proposal_revision != state.proposal_revision;
+  if (proposal) {
+    window_.approvalPanel()->showProposal(state.pending);
+    window_.mapView()->setProposal(state.pending);
+  }
+  if (proposal || !sameStance(before->reported, state.reported)) {
+    window_.mapView()->setStance(state.reported);
+    window_.terrainView()->setRover(state.reported, options_.ground.model, state.pending);
+  }
+  if (!before || before->rows != state.rows) window_.commandLog()->setRows(*state.rows);
+  shown_ = session_->sharedState();
+  if (!before) refreshTelemetry();  // then twice a second
+  if (proposal && state.pending) emit proposalShown();
 }
 
 // What the walk is doing, and when it has stopped, why (a hold, a
 // rejection, no step to propose, the link lost) in the executive's words.
 void GroundStation::showWalkState() {
-  const auto& exec = session_->executive();
-  const auto phase = exec.phase();
+  const auto& state = session_->state();
+  const auto phase = state.phase;
   QString text = QString::fromStdString(phaseName(phase));
-  if (!exec.roverHolding().empty())
-    text += tr("; the rover HOLDS (%1)").arg(QString::fromStdString(exec.roverHolding()));
+  if (!state.rover_holding.empty())
+    text += tr("; the rover HOLDS (%1)").arg(QString::fromStdString(state.rover_holding));
   const bool stopped = phase == executive::Phase::kSuspended;
   QString why;
-  if (stopped) why = QString::fromStdString(exec.suspendedBecause());
-  if (phase == executive::Phase::kDone) why = tr("%1 step(s) walked").arg(exec.stepsDone());
-  if (stopped && exec.linkLost())
+  if (stopped) why = QString::fromStdString(state.suspended_because);
+  if (phase == executive::Phase::kDone) why = tr("%1 step(s) walked").arg(state.steps_done);
+  if (stopped && state.link_lost)
     why += tr("; LINK LOST (%1): Resume once the rover is heard again")
-               .arg(QString::fromStdString(*exec.linkLost()));
+               .arg(QString::fromStdString(*state.link_lost));
   window_.approvalPanel()->setPhase(text, why, stopped);
-  window_.approvalPanel()->setResumable(stopped && !exec.linkLost());
+  window_.approvalPanel()->setResumable(stopped && !state.link_lost);
 }
 
 // Between changes of phase the rover still moves: its pose, legs and the
-// module timing are refreshed twice a second, with the link's age.
+// module timing follow its reports, and the link's age is shown twice a
+// second.
 void GroundStation::refreshTelemetry() {
   if (timeline_) return;
   if (!session_) {
     window_.setLinkStatus(tr("built-in simulator: no walk yet"), false);
     return;
   }
-  const auto& exec = session_->executive();
+  const auto& state = session_->state();
   const double now = missionlog::groundClockS();
-  const auto sample = exec.report().sample(options_.ground.model, now);
+  const auto sample = state.report.sample(options_.ground.model, now);
   if (sample && (history_.empty() || history_.back().stance.body.xy != sample->stance.body.xy ||
                  history_.back().stance.feet != sample->stance.feet ||
                  history_.back().force_n != sample->force_n)) {
@@ -254,25 +274,26 @@ void GroundStation::refreshTelemetry() {
     window_.mapView()->setStance(sample->stance);
   }
   window_.telemetry()->setRover(sample);
-  if (exec.phase() != executive::Phase::kIdle)
-    window_.telemetry()->setModuleTiming(exec.tasks().tasks(), session_start_s_, now);
+  if (state.phase != executive::Phase::kIdle)
+    window_.telemetry()->setModuleTiming(state.tasks, session_start_s_, now);
   const auto age = session_->linkAgeS();
   const bool stale = !age || *age > 3.0;
-  if (const auto& lost = exec.linkLost()) {
-    window_.setLinkStatus(tr("%1: LINK LOST, walk suspended (%2)")
-                              .arg(session_->linkDescription(), QString::fromStdString(*lost)),
-                          true);
+  if (state.link_lost) {
+    window_.setLinkStatus(
+        tr("%1: LINK LOST, walk suspended (%2)")
+            .arg(session_->linkDescription(), QString::fromStdString(*state.link_lost)),
+        true);
     return;
   }
   window_.setLinkStatus(
       age ? tr("%1: last data %2 s ago").arg(session_->linkDescription()).arg(*age, 0, 'f', 1)
           : tr("%1: no data yet").arg(session_->linkDescription()),
-      stale && exec.phase() != executive::Phase::kIdle);
+      stale && state.phase != executive::Phase::kIdle);
 }
 
 void GroundStation::openLog(const QString& path) {
   if (opening_) return;  // one at a time
-  if (session_ && session_->executive().phase() == executive::Phase::kExecuting) {
+  if (session_ && session_->state().phase == executive::Phase::kExecuting) {
     window_.showError(tr("A step is executing: open the log once it has ended."));
     emit replayFailed(tr("a step is executing"));
     return;
@@ -313,7 +334,8 @@ void GroundStation::finishOpening() {
     emit replayFailed(why);
     return;
   }
-  if (session_) session_.reset();  // a replay cannot command anything
+  session_.reset();  // a replay cannot command anything
+  shown_.reset();
   timeline_ = std::make_unique<replay::MissionTimeline>(std::move(*timeline));
   replay_history_ = timeline_->samples(options_.ground.model);
   window_.setReplay(QFileInfo(job->path).fileName());

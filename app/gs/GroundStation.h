@@ -53,7 +53,8 @@ class GroundStation : public QObject {
   void openLog(const QString& path);
   // Live: the station's walk of `steps` steps on the current session.
   void startWalk(int steps);
-  // A simulated light-striper image of the sampling tray on course `seed`.
+  // The Rock sampling tab with a simulated light-striper image of the
+  // sampling tray on course `seed` (SamplingController::trayShown follows).
   void showTray(quint64 seed);
 
  signals:
@@ -80,8 +81,8 @@ class GroundStation : public QObject {
   SimulatorSource simulator_;
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;
+  std::shared_ptr<const WalkState> shown_;       // the session's state the views show
   std::vector<executive::RoverSample> history_;  // the live walk's
-  bool map_changed_ = false;                     // since the views last drew it
   double session_start_s_ = 0.0;
   std::unique_ptr<replay::MissionTimeline> timeline_;
   std::vector<executive::RoverSample> replay_history_;

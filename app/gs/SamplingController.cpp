@@ -1,7 +1,10 @@
 #include "app/gs/SamplingController.h"
 
+#include <QtConcurrent/QtConcurrentRun>
 #include <nlohmann/json.hpp>
 
+#include "sim/ObstacleCourse.h"
+#include "sim/StriperSim.h"
 #include "widgets/SamplingPanel.h"
 
 namespace ambler::gs {
@@ -31,17 +34,42 @@ std::string fitRecord(const sampling::RockSample& s, bool robust) {
 SamplingController::SamplingController(widgets::SamplingPanel& panel, QObject* parent)
     : QObject(parent), panel_(panel) {
   connect(&panel_, &widgets::SamplingPanel::fitRequested, this, &SamplingController::fitAt);
+  connect(&panel_, &widgets::SamplingPanel::sceneRequested, this,
+          &SamplingController::simulateTray);
+  connect(&tray_watcher_, &QFutureWatcher<std::shared_ptr<Tray>>::finished, this,
+          &SamplingController::showTray);
   connect(&panel_, &widgets::SamplingPanel::graspRequested, this, [this] {
     if (sample_ && sample_->grasp.ok)
       emit graspApproved(sample_->grasp, QString::fromStdString(fitRecord(*sample_, robust_)));
   });
 }
 
-void SamplingController::setImage(sensor::StriperImage image) {
-  image_ = std::move(image);
-  features_ = sampling::extractFeatures(*image_);
+void SamplingController::simulateTray(quint64 seed) {
+  if (tray_watcher_.isRunning()) {
+    next_tray_ = seed;  // the newest wish wins
+    return;
+  }
+  tray_watcher_.setFuture(QtConcurrent::run([seed] {
+    const sim::ProceduralTerrain tray(
+        sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
+    auto made = std::make_shared<Tray>();
+    made->seed = seed;
+    made->image = sim::simulateStriper(tray, sim::StriperModel{}, seed).image;
+    made->features = sampling::extractFeatures(made->image);
+    made->seeds = sampling::automaticSeeds(made->image, made->features);
+    return made;
+  }));
+}
+
+void SamplingController::showTray() {
+  if (const auto next = std::exchange(next_tray_, std::nullopt)) return simulateTray(*next);
+  const auto tray = tray_watcher_.result();
+  image_ = tray->image;
+  features_ = tray->features;
   sample_.reset();
-  panel_.showImage(*image_, *features_, sampling::automaticSeeds(*image_, *features_));
+  panel_.showImage(tray->image, tray->features, tray->seeds);
+  panel_.setSeed(tray->seed);
+  emit trayShown();
 }
 
 void SamplingController::fitAt(double row, double col, bool robust) {

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <QFutureWatcher>
 #include <QObject>
+#include <memory>
 #include <optional>
 
 #include "sampling/RockSampler.h"
@@ -21,7 +23,10 @@ class SamplingController : public QObject {
  public:
   explicit SamplingController(widgets::SamplingPanel& panel, QObject* parent = nullptr);
 
-  void setImage(sensor::StriperImage image);
+  // A simulated light-striper image of the sampling tray on course `seed`
+  // (rocks from resting on the sand to half buried), made with its
+  // features and seeds on a worker thread; trayShown() follows.
+  void simulateTray(quint64 seed);
   // Contour, fit and grasp from the pixel (row, col); a failure is shown.
   void fitAt(double row, double col, bool robust);
   const std::optional<sampling::RockSample>& sample() const { return sample_; }
@@ -30,9 +35,20 @@ class SamplingController : public QObject {
   // The operator approved `plan`; `fit_json` is what the log keeps of the
   // fit behind it.
   void graspApproved(const ambler::sampling::GraspPlan& plan, const QString& fit_json);
+  void trayShown();
 
  private:
+  struct Tray {
+    quint64 seed = 0;
+    sensor::StriperImage image;
+    sampling::FeatureMap features;
+    std::vector<sampling::Seed> seeds;
+  };
+  void showTray();
+
   widgets::SamplingPanel& panel_;
+  QFutureWatcher<std::shared_ptr<Tray>> tray_watcher_;
+  std::optional<quint64> next_tray_;  // asked for while one was being made
   std::optional<sensor::StriperImage> image_;
   std::optional<sampling::FeatureMap> features_;
   std::optional<sampling::RockSample> sample_;

@@ -47,10 +47,10 @@ void Soak::startWalk() {
 void Soak::poll() {
   const auto* session = station_.session();
   if (!session) return;
-  const auto phase = session->executive().phase();
+  const auto phase = session->state().phase;
   if (phase != executive::Phase::kDone && phase != executive::Phase::kSuspended) return;
   poll_.stop();
-  const int walked = session->executive().stepsDone();
+  const int walked = session->state().steps_done;
   if (steps_ < 200 && steps_ + walked >= 200) rss_at_200_mb_ = residentMb();
   steps_ += walked;
   if (steps_ >= target_steps_ || walked == 0) return finish();

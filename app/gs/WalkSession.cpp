@@ -1,9 +1,11 @@
 #include "app/gs/WalkSession.h"
 
+#include <QTimer>
 #include <chrono>
 #include <random>
 
 #include "link/Limits.h"
+#include "missionlog/ReplayLinks.h"
 #include "rover/InProcessLink.h"
 
 namespace ambler::gs {
@@ -17,6 +19,12 @@ link::OperatorKey sessionKey(const QString& operator_id) {
   return {operator_id.toStdString(), key};
 }
 
+double nowS() { return missionlog::groundClockS(); }
+
+// Between changes the rover still moves: its reports reach the views this
+// often.
+constexpr double kTelemetryPeriodS = 0.25;
+
 }  // namespace
 
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
@@ -26,159 +34,321 @@ RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, s
   rover::SimulatedRoverOptions options;
   options.course.seed = seed;
   options.operators = {c.key};
-  c.link = std::make_unique<rover::InProcessLink>(config, options);
+  c.open = [config, options] { return std::make_unique<rover::InProcessLink>(config, options); };
+  c.description = "built-in simulator on course " + std::to_string(seed);
   c.mission = "ambler-gs walk on course " + std::to_string(seed);
   return c;
 }
 
+// The session's work on its own thread: the link, the log, the gate and
+// the executive, polled by a timer of this thread. Made on the GUI thread,
+// then only touched from its own; it tells the session by queued calls.
+class WalkWorker : public QObject {
+ public:
+  WalkWorker(WalkSession& session, const gait::GaitContext& context, RoverConnection rover,
+             const std::filesystem::path& log_path)
+      : session_(session),
+        context_(context),
+        log_(log_path, rover.mission),
+        rover_(std::move(rover)),
+        gate_([this](const missionlog::Decision& d) {
+          log_.record(d);
+          table_.decided(d);
+          rows_changed_ = true;
+        }) {
+    signer_ = std::make_unique<link::CommandSigner>(rover_.key, rover_.first_sequence);
+    timer_.setParent(this);  // moves to the session's thread with it
+    connect(&timer_, &QTimer::timeout, this, [this] { poll(); });
+  }
+
+  // The first call on the session's thread.
+  void open() {
+    rover_link_ = rover_.open();
+    recording_ = std::make_unique<missionlog::RecordingLink>(*rover_link_, log_);
+    link_ = std::make_unique<link::WatchedLink>(
+        *recording_, health_, [] { return nowS(); },
+        link::LinkObserver{[this](const link::Command& c) {
+                             table_.sent(nowS(), c);
+                             rows_changed_ = true;
+                           },
+                           [this](const link::Telemetry& t) {
+                             table_.received(nowS(), t);
+                             rows_changed_ = heard_ = true;
+                           }});
+    makeExecutive({});
+  }
+
+  void start(int steps) {
+    executive::ExecutiveOptions options;
+    options.steps = steps;
+    options.rover_id = rover_.rover_id;
+    makeExecutive(options);
+    executive_->start(nowS(), true);
+    keepPolling();
+    publish(true);
+  }
+
+  void approve(quint64 proposal, const std::string& who) {
+    tellRefusal(OperatorAction::kApprove, gate_.approve(proposal, who, nowS()));
+    poll();
+  }
+
+  void reject(quint64 proposal, const std::string& who, const std::string& reason) {
+    tellRefusal(OperatorAction::kReject, gate_.reject(proposal, who, nowS(), reason));
+    poll();
+  }
+
+  void editFoothold(quint64 proposal, const Eigen::Vector2d& xy, const std::string& who) {
+    tellRefusal(OperatorAction::kEditFoothold, executive_->editFoothold(proposal, xy, who, nowS()));
+    ++proposal_revision_;
+    publish(true);
+  }
+
+  void hold(const std::string& who) {
+    executive_->hold(nowS(), who);
+    keepPolling();  // for the rover's answer
+    publish(true);
+  }
+
+  void resume() {
+    executive_->resume(nowS());
+    keepPolling();
+    publish(true);
+  }
+
+  void setAutoApprove(bool on) {
+    gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
+    // A step already waiting is released now if it passes its interlocks.
+    if (on && gate_.pending() && gate_.pending()->interlocks.passed()) {
+      const auto done = gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
+      tellRefusal(OperatorAction::kAutoApprove, done);
+    }
+    publish(true);
+  }
+
+  void sendGrasp(const sampling::GraspPlan& plan, const std::string& detail,
+                 const std::string& who) {
+    const auto sent = trySendGrasp(plan, detail, who);
+    if (sent.refused()) return tellRefusal(OperatorAction::kGrasp, sent);
+    tell([](WalkSession& s) { emit s.graspSent(); });
+    keepPolling();  // for the answer
+    publish(true);
+  }
+
+ private:
+  void makeExecutive(const executive::ExecutiveOptions& options) {
+    executive_ =
+        std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_, options);
+    executive_->onProduct([this](double t, const std::string& kind, const std::string& parameters) {
+      log_.recordProduct(t, kind, parameters);
+    });
+    executive_->onScanMapped([this](const sensor::RangeImage& scan) {
+      map_changed_ = true;
+      tell([scan](WalkSession& s) { emit s.scanMapped(scan); });
+    });
+    executive_->onEvent([this](const executive::ExecutiveEvent& e) {
+      log_.recordEvent(e.time_s, e.what);
+      table_.noted(e.time_s, e.what);
+      rows_changed_ = true;
+      tell([what = QString::fromStdString(e.what)](WalkSession& s) { emit s.eventNoted(what); });
+    });
+    map_changed_ = true;  // a new walk maps afresh
+  }
+
+  void keepPolling() {
+    if (!timer_.isActive()) timer_.start(50);
+  }
+
+  void poll() {
+    executive_->poll(nowS(), std::chrono::milliseconds(0));
+    answerGrasp();
+    publish(false);
+  }
+
+  // A new state when something the operator sees has changed, and the
+  // rover's newest reports a few times a second.
+  void publish(bool force) {
+    const auto pending = gate_.pending() ? std::optional(gate_.pending()->id) : std::nullopt;
+    if (pending != last_pending_) ++proposal_revision_;
+    const bool changed = force || map_changed_ || rows_changed_ || pending != last_pending_ ||
+                         executive_->phase() != last_phase_;
+    const double now = nowS();
+    if (!changed && !(heard_ && now - published_s_ >= kTelemetryPeriodS)) return;
+    last_pending_ = pending;
+    last_phase_ = executive_->phase();
+    published_s_ = now;
+    heard_ = false;
+    if (std::exchange(map_changed_, false) || !map_)
+      map_ = std::make_shared<const terrain::ElevationMap>(executive_->map());
+    if (std::exchange(rows_changed_, false))
+      rows_ = std::make_shared<const std::vector<replay::LogRow>>(table_.rows());
+    auto state = std::make_shared<WalkState>();
+    state->phase = executive_->phase();
+    state->steps_done = executive_->stepsDone();
+    state->suspended_because = executive_->suspendedBecause();
+    state->rover_holding = executive_->roverHolding();
+    state->link_lost = executive_->linkLost();
+    state->pending = gate_.pending();
+    state->proposal_revision = proposal_revision_;
+    state->reported = executive_->reported();
+    state->report = executive_->report();
+    state->tasks = executive_->tasks().tasks();
+    state->map = map_;
+    state->rows = rows_;
+    state->last_heard_s = health_.lastHeardS();
+    tell([state = std::shared_ptr<const WalkState>(std::move(state))](WalkSession& s) {
+      s.take(state);
+    });
+  }
+
+  void answerGrasp() {
+    if (!grasp_row_ || *grasp_row_ >= table_.rows().size()) return;
+    const auto& row = table_.rows()[*grasp_row_];
+    if (row.outcome != "accepted" && row.outcome != "refused") return;
+    grasp_row_.reset();
+    tell([accepted = row.outcome == "accepted", reason = QString::fromStdString(row.reason)](
+             WalkSession& s) { emit s.graspAnswered(accepted, reason); });
+  }
+
+  Refusal trySendGrasp(const sampling::GraspPlan& plan, const std::string& detail,
+                       const std::string& who) {
+    if (!plan.ok) return Refusal::because("no grasp to send: " + plan.reason);
+    const auto phase = executive_->phase();
+    if (phase != executive::Phase::kIdle && phase != executive::Phase::kDone &&
+        phase != executive::Phase::kSuspended)
+      return Refusal::because("the walk is " + executive::phaseName(phase) +
+                              ": grasp once it has stopped");
+    const link::Grasp grasp{plan.centre.x(), plan.centre.y(), plan.centre.z(), plan.yaw_rad,
+                            plan.opening_m};
+    if (auto outside = link::outsideLimits(grasp, context_.model, context_.gait); outside.refused())
+      return outside;
+    const missionlog::Decision decision{nowS(), who, 0, missionlog::Verdict::kApproved,
+                                        "{\"grasp\": " + detail + "}"};
+    log_.record(decision);
+    table_.decided(decision);
+    rows_changed_ = true;
+    link::Command command;
+    command.rover_id = rover_.rover_id;
+    command.time_s = nowS();
+    command.body = grasp;
+    signer_->sign(command);
+    grasp_row_ = table_.rows().size();  // the row the send is about to add
+    try {
+      link_->send(command);
+    } catch (const link::LinkError& e) {
+      grasp_row_.reset();
+      return Refusal::because(std::string("grasp approved but not sent: ") + e.what());
+    }
+    return {};
+  }
+
+  void tellRefusal(OperatorAction action, const Refusal& refusal) {
+    if (!refusal.refused()) return;
+    tell([action, why = QString::fromStdString(refusal.why())](WalkSession& s) {
+      emit s.refused(action, why);
+    });
+  }
+
+  // Runs `f` on the GUI thread; dropped if the session is gone by then.
+  template <typename F>
+  void tell(F f) {
+    QMetaObject::invokeMethod(
+        &session_, [s = &session_, f = std::move(f)] { f(*s); }, Qt::QueuedConnection);
+  }
+
+  WalkSession& session_;
+  gait::GaitContext context_;
+  missionlog::MissionLog log_;
+  replay::CommandTable table_;
+  RoverConnection rover_;
+  std::unique_ptr<link::Link> rover_link_;
+  std::unique_ptr<link::Link> recording_;  // rover_link_, to log_
+  link::LinkHealth health_;
+  std::unique_ptr<link::Link> link_;  // recording_, watched for health_ and table_
+  std::unique_ptr<link::CommandSigner> signer_;
+  executive::ApprovalGate gate_;
+  std::unique_ptr<executive::WalkExecutive> executive_;
+  QTimer timer_;
+  std::optional<std::size_t> grasp_row_;  // the last grasp's row, until answered
+  // What the last state told, and what has changed since.
+  std::optional<quint64> last_pending_;
+  executive::Phase last_phase_ = executive::Phase::kIdle;
+  std::uint64_t proposal_revision_ = 0;
+  double published_s_ = 0.0;
+  bool map_changed_ = true, rows_changed_ = true, heard_ = false;
+  std::shared_ptr<const terrain::ElevationMap> map_;
+  std::shared_ptr<const std::vector<replay::LogRow>> rows_;
+};
+
 WalkSession::WalkSession(const gait::GaitContext& context, RoverConnection rover,
                          const std::filesystem::path& log_path, QObject* parent)
     : QObject(parent),
-      context_(context),
       log_path_(log_path),
-      log_(log_path, rover.mission),
-      gate_([this](const missionlog::Decision& d) {
-        log_.record(d);
-        table_.decided(d);
-      }),
-      operator_id_(QString::fromStdString(rover.key.operator_id)) {
-  rover_ = std::move(rover);
-  recording_ = std::make_unique<missionlog::RecordingLink>(*rover_.link, log_);
-  link_ = std::make_unique<link::WatchedLink>(
-      *recording_, health_, [this] { return nowS(); },
-      link::LinkObserver{[this](const link::Command& c) { table_.sent(nowS(), c); },
-                         [this](const link::Telemetry& t) { table_.received(nowS(), t); }});
-  signer_ = std::make_unique<link::CommandSigner>(rover_.key, rover_.first_sequence);
-  makeExecutive({});
-  connect(&timer_, &QTimer::timeout, this, &WalkSession::poll);
+      link_description_(rover.description),
+      operator_id_(rover.key.operator_id) {
+  auto worker = std::make_unique<WalkWorker>(*this, context, std::move(rover), log_path);
+  thread_.setObjectName("walk session");
+  worker->moveToThread(&thread_);
+  worker_ = worker.release();
+  thread_.start();
+  QMetaObject::invokeMethod(worker_, [w = worker_] { w->open(); });
 }
 
-WalkSession::~WalkSession() = default;
+WalkSession::~WalkSession() {
+  QMetaObject::invokeMethod(
+      worker_, [w = worker_] { delete w; }, Qt::BlockingQueuedConnection);
+  thread_.quit();
+  thread_.wait();
+}
 
-double WalkSession::nowS() const { return missionlog::groundClockS(); }
+void WalkSession::take(std::shared_ptr<const WalkState> state) {
+  state_ = std::move(state);
+  emit changed();
+}
 
-void WalkSession::makeExecutive(const executive::ExecutiveOptions& options) {
-  executive_ =
-      std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_, options);
-  executive_->onProduct([this](double t, const std::string& kind, const std::string& parameters) {
-    log_.recordProduct(t, kind, parameters);
-  });
-  executive_->onScanMapped([this](const sensor::RangeImage& scan) { emit scanMapped(scan); });
-  executive_->onEvent([this](const executive::ExecutiveEvent& e) {
-    log_.recordEvent(e.time_s, e.what);
-    table_.noted(e.time_s, e.what);
-    emit eventNoted(QString::fromStdString(e.what));
-  });
+std::optional<double> WalkSession::linkAgeS() const {
+  if (!state_->last_heard_s) return std::nullopt;
+  return nowS() - *state_->last_heard_s;
 }
 
 void WalkSession::start(int steps) {
-  executive::ExecutiveOptions options;
-  options.steps = steps;
-  options.rover_id = rover_.rover_id;
-  makeExecutive(options);
-  executive_->start(nowS(), true);
-  timer_.start(50);
-  emit changed();
+  QMetaObject::invokeMethod(worker_, [w = worker_, steps] { w->start(steps); });
 }
 
-void WalkSession::poll() {
-  executive_->poll(nowS(), std::chrono::milliseconds(0));
-  const auto pending = gate_.pending() ? std::optional<quint64>(gate_.pending()->id) : std::nullopt;
-  if (pending != last_pending_ || executive_->phase() != last_phase_ ||
-      table_.rows().size() != last_rows_) {
-    last_pending_ = pending;
-    last_phase_ = executive_->phase();
-    last_rows_ = table_.rows().size();
-    emit changed();
-  }
-  answerGrasp();  // an answer fills its row in place
+void WalkSession::approve(quint64 proposal) {
+  QMetaObject::invokeMethod(
+      worker_, [w = worker_, proposal, who = operator_id_] { w->approve(proposal, who); });
 }
 
-void WalkSession::answerGrasp() {
-  if (!grasp_row_ || *grasp_row_ >= table_.rows().size()) return;
-  const auto& row = table_.rows()[*grasp_row_];
-  if (row.outcome != "accepted" && row.outcome != "refused") return;
-  grasp_row_.reset();
-  emit graspAnswered(row.outcome == "accepted", QString::fromStdString(row.reason));
-  emit changed();  // the table shows the answer
+void WalkSession::reject(quint64 proposal, const QString& reason) {
+  QMetaObject::invokeMethod(
+      worker_, [w = worker_, proposal, who = operator_id_, why = reason.toStdString()] {
+        w->reject(proposal, who, why);
+      });
 }
 
-Refusal WalkSession::approve(quint64 proposal) {
-  auto done = gate_.approve(proposal, operator_id_.toStdString(), nowS());
-  poll();
-  return done;
-}
-
-Refusal WalkSession::reject(quint64 proposal, const QString& reason) {
-  auto done = gate_.reject(proposal, operator_id_.toStdString(), nowS(), reason.toStdString());
-  poll();
-  return done;
-}
-
-Refusal WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
-  auto done = executive_->editFoothold(proposal, {x_m, y_m}, operator_id_.toStdString(), nowS());
-  emit changed();
-  return done;
-}
-
-void WalkSession::hold() {
-  executive_->hold(nowS(), operator_id_.toStdString());
-  if (!timer_.isActive()) timer_.start(50);  // for the rover's answer
-  emit changed();
-}
-
-void WalkSession::resume() {
-  executive_->resume(nowS());
-  if (!timer_.isActive()) timer_.start(50);
-  emit changed();
+void WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
+  QMetaObject::invokeMethod(worker_, [w = worker_, proposal, x_m, y_m, who = operator_id_] {
+    w->editFoothold(proposal, {x_m, y_m}, who);
+  });
 }
 
 void WalkSession::setAutoApprove(bool on) {
-  gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
-  // A step already waiting is released now if it passes its interlocks.
-  if (on && gate_.pending() && gate_.pending()->interlocks.passed())
-    if (const auto refused = gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
-        refused.refused())
-      emit eventNoted(tr("auto-approve refused the waiting step: %1")
-                          .arg(QString::fromStdString(refused.why())));
-  emit changed();
+  QMetaObject::invokeMethod(worker_, [w = worker_, on] { w->setAutoApprove(on); });
 }
 
-Refusal WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
-  if (!plan.ok) return Refusal::because("no grasp to send: " + plan.reason);
-  const auto phase = executive_->phase();
-  if (phase != executive::Phase::kIdle && phase != executive::Phase::kDone &&
-      phase != executive::Phase::kSuspended)
-    return Refusal::because("the walk is " + executive::phaseName(phase) +
-                            ": grasp once it has stopped");
-  const link::Grasp grasp{plan.centre.x(), plan.centre.y(), plan.centre.z(), plan.yaw_rad,
-                          plan.opening_m};
-  if (auto outside = link::outsideLimits(grasp, context_.model, context_.gait); outside.refused())
-    return outside;
-  const missionlog::Decision decision{nowS(), operator_id_.toStdString(), 0,
-                                      missionlog::Verdict::kApproved,
-                                      "{\"grasp\": " + detail + "}"};
-  log_.record(decision);
-  table_.decided(decision);
-  link::Command command;
-  command.rover_id = rover_.rover_id;
-  command.time_s = nowS();
-  command.body = grasp;
-  signer_->sign(command);
-  grasp_row_ = table_.rows().size();  // the row the send is about to add
-  try {
-    link_->send(command);
-  } catch (const link::LinkError& e) {
-    grasp_row_.reset();
-    return Refusal::because(std::string("grasp approved but not sent: ") + e.what());
-  }
-  if (!timer_.isActive()) timer_.start(50);  // for the answer
-  emit changed();
-  return {};
+void WalkSession::hold() {
+  QMetaObject::invokeMethod(worker_, [w = worker_, who = operator_id_] { w->hold(who); });
 }
 
-QString WalkSession::linkDescription() const { return QString::fromStdString(link_->describe()); }
+void WalkSession::resume() {
+  QMetaObject::invokeMethod(worker_, [w = worker_] { w->resume(); });
+}
 
-std::optional<double> WalkSession::linkAgeS() const { return health_.ageS(nowS()); }
+void WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
+  QMetaObject::invokeMethod(worker_, [w = worker_, plan, detail, who = operator_id_] {
+    w->sendGrasp(plan, detail, who);
+  });
+}
 
 }  // namespace ambler::gs

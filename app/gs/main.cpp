@@ -83,18 +83,21 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
   QObject::connect(poll, &QTimer::timeout, &station, [&, started, poll] {
     const auto* session = station.session();
     if (!started->isValid() || !session) return;
-    const auto phase = session->executive().phase();
+    const auto phase = session->state().phase;
     if (phase != ambler::executive::Phase::kDone && phase != ambler::executive::Phase::kSuspended)
       return;
     poll->stop();
     const double walk_s = double(started->elapsed()) / 1000.0;
-    const int done = session->executive().stepsDone();
+    const int done = session->state().steps_done;
+    QObject::connect(&station.sampling(), &ambler::gs::SamplingController::trayShown, &station,
+                     [&] {
+                       auto* sampling = window.samplingPanel();
+                       if (!sampling->seeds().empty())
+                         station.sampling().fitAt(sampling->seeds().front().pixel.y(),
+                                                  sampling->seeds().front().pixel.x(), true);
+                       window.showMeshView();
+                     });
     station.showTray(3);
-    auto* sampling = window.samplingPanel();
-    if (!sampling->seeds().empty())
-      station.sampling().fitAt(sampling->seeds().front().pixel.y(),
-                               sampling->seeds().front().pixel.x(), true);
-    window.showMeshView();
     QTimer::singleShot(3000, &station, [&, walk_s, done, started] {
       watchdog.stop();
       std::cout << "{\"steps\": " << done << ", \"walk_s\": " << walk_s

@@ -45,6 +45,7 @@ class LinkHealth {
     if (!last_s_) return std::nullopt;
     return now_s - *last_s_;
   }
+  const std::optional<double>& lastHeardS() const { return last_s_; }
   bool stale(double now_s) const {
     const auto age = ageS(now_s);
     return !age || *age > stale_after_s_;

@@ -82,14 +82,15 @@ class RoverLossTest : public QObject {
     QCOMPARE(station.connectTo(choice).why(), std::string());
     station.session()->setAutoApprove(true);
     station.startWalk(20);
-    const auto& executive = station.session()->executive();
-    QTRY_VERIFY_WITH_TIMEOUT(executive.stepsDone() >= 1, 60000);
+    // The session's latest state, each time asked (a new one replaces it).
+    const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
+    QTRY_VERIFY_WITH_TIMEOUT(walk().steps_done >= 1, 60000);
 
     ::kill(sim, SIGKILL);
     ::waitpid(sim, nullptr, 0);
     // DDS notices the vanished rover when its lease (10 s) runs out.
-    QTRY_VERIFY_WITH_TIMEOUT(executive.linkLost().has_value(), 30000);
-    QTRY_COMPARE_WITH_TIMEOUT(executive.phase(), Phase::kSuspended, 5000);
+    QTRY_VERIFY_WITH_TIMEOUT(walk().link_lost.has_value(), 30000);
+    QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kSuspended, 5000);
     QVERIFY(!station.session()->pending());
     bool said = false;
     QTRY_VERIFY_WITH_TIMEOUT(
@@ -126,7 +127,7 @@ class RoverLossTest : public QObject {
     // The rover comes back: once heard, Resume scans and plans afresh, so
     // the first move after the outage follows a scan taken after it.
     sim = startSimulator(domain, folder + "/operators.json");
-    QTRY_VERIFY_WITH_TIMEOUT(!executive.linkLost().has_value(), 30000);
+    QTRY_VERIFY_WITH_TIMEOUT(!walk().link_lost.has_value(), 30000);
     const int back_row = firstRow(table, lost_row, {"link back"});
     QVERIFY(back_row > lost_row);
     QTRY_VERIFY(panel.resumeButton()->isEnabled());

@@ -137,7 +137,7 @@ class ScreenFitTest : public QObject {
     const QString before = layout();
     station.startWalk(3);
     window.approvalPanel()->autoApproveSwitch()->setChecked(true);
-    QTRY_VERIFY_WITH_TIMEOUT(station.session()->executive().stepsDone() >= 2, 60000);
+    QTRY_VERIFY_WITH_TIMEOUT(station.session()->state().steps_done >= 2, 60000);
     window.approvalPanel()->autoApproveSwitch()->setChecked(false);
     QTest::qWait(500);
     QCOMPARE(layout(), before);
