@@ -61,10 +61,6 @@ MainWindow::MainWindow(QWidget* parent)
   views_->addTab(sampling_, tr("Rock sampling"));
   views_->addTab(mesh_panel_, tr("Terrain mesh"));
   views_->addTab(danger_panel_, tr("Danger map"));
-  connect(mesh_panel_, &TerrainMeshPanel::overlayChanged, this, [this] {
-    terrain_view_->setMeshOverlay(mesh_panel_->outlines(), mesh_panel_->pathPoints());
-    terrain_view_->setRegisteredScans(mesh_panel_->registeredScans());
-  });
   splitter->addWidget(views_);
   splitter->addWidget(terrain_view_);
   splitter->setStretchFactor(0, 3);
@@ -269,7 +265,6 @@ void MainWindow::setSeed(quint64 seed) { seed_box_->setValue(int(seed)); }
 void MainWindow::showScan(const ScanDisplay& display) {
   range_view_->setImage(display.scan);
   terrain_view_->setScene(display);
-  mesh_panel_->setScan(display.scan);
   const auto t = display.scan.sensor_to_world.translation();
   setStatus(tr("Scan %1 x %2, %3 returns, sensor at (%4, %5, %6) m, simulated in %7 ms")
                 .arg(display.scan.rows())

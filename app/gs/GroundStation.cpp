@@ -15,7 +15,6 @@
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
-#include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
 
@@ -36,6 +35,10 @@ GroundStation::GroundStation(StationOptions options, QObject* parent)
   choice_.seed = options_.seed;
   window_.mapView()->setModel(options_.ground.model);
   wireWindow();
+  connect(&mesh_, &MeshController::overlayChanged, this, [this] {
+    window_.terrainView()->setMeshOverlay(mesh_.outlines(), mesh_.pathPoints());
+    window_.terrainView()->setRegisteredScans(mesh_.registeredScans());
+  });
   connect(&open_watcher_, &QFutureWatcher<std::shared_ptr<replay::MissionTimeline>>::finished, this,
           &GroundStation::finishOpening);
   connect(&progress_timer_, &QTimer::timeout, this, [this] {
@@ -68,6 +71,7 @@ void GroundStation::wireWindow() {
           [this](const widgets::ScanDisplay& d) {
             window_.setBusy({});
             window_.showScan(d);
+            mesh_.setScan(d.scan);
           });
   connect(&simulator_, &SimulatorSource::scanFailed, &window_, [this](const QString& message) {
     window_.setBusy({});
@@ -179,8 +183,7 @@ Refusal GroundStation::openSession() {
                          : tr("The rover refused the grasp: %1").arg(reason),
                 accepted);
           });
-  connect(session_.get(), &WalkSession::scanMapped, window_.meshPanel(),
-          &widgets::TerrainMeshPanel::addWalkScan);
+  connect(session_.get(), &WalkSession::scanMapped, &mesh_, &MeshController::addWalkScan);
   shown_.reset();
   // The switch the operator sees decides, whenever the session was made.
   session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());
@@ -205,7 +208,7 @@ void GroundStation::startWalk(int steps) {
   window_.mapView()->setMap(
       terrain::ElevationMap(GridSpec::covering(walk.map_extent, walk.map_resolution_m)));
   window_.terrainView()->clear();
-  window_.meshPanel()->clearWalkScans();
+  mesh_.clearWalkScans();
   session_->start(steps);
 }
 
@@ -341,7 +344,7 @@ void GroundStation::finishOpening() {
   window_.setReplay(QFileInfo(job->path).fileName());
   // Only the log's state from here on: nothing of the live session stays.
   history_.clear();
-  window_.meshPanel()->clearWalkScans();
+  mesh_.clearWalkScans();
   window_.terrainView()->clear();
   window_.approvalPanel()->setResumable(false);
   window_.commandLog()->setRows(timeline_->rows());

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/gs/DangerController.h"
+#include "app/gs/MeshController.h"
 #include "app/gs/SamplingController.h"
 #include "app/gs/SimulatorSource.h"
 #include "app/gs/WalkSession.h"
@@ -41,6 +42,7 @@ class GroundStation : public QObject {
   widgets::MainWindow& window() { return window_; }
   DangerController& danger() { return danger_; }
   SamplingController& sampling() { return sampling_; }
+  MeshController& mesh() { return mesh_; }
   WalkSession* session() const { return session_.get(); }
   const replay::MissionTimeline* timeline() const { return timeline_.get(); }
 
@@ -78,6 +80,7 @@ class GroundStation : public QObject {
   widgets::MainWindow window_;
   DangerController danger_{*window_.dangerPanel()};
   SamplingController sampling_{*window_.samplingPanel()};
+  MeshController mesh_{*window_.meshPanel()};
   SimulatorSource simulator_;
   widgets::ConnectChoice choice_;
   std::unique_ptr<WalkSession> session_;

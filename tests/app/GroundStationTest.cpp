@@ -303,7 +303,7 @@ class GroundStationTest : public QObject {
     QCOMPARE(c.session().state().steps_done, 2);
     // Each step's scan reached the Terrain mesh tab and was registered; the
     // simulated rover's dead reckoning is close, so ICP moves it little.
-    auto& mesh = *c.station.window().meshPanel();
+    auto& mesh = c.station.mesh();
     QTRY_VERIFY_WITH_TIMEOUT(mesh.registeredScans().size() >= 2 && !mesh.registering(), 60000);
     QVERIFY(mesh.lastCorrection().translation().norm() < 0.05);
   }
@@ -500,30 +500,39 @@ class GroundStationTest : public QObject {
     QCOMPARE(log.summary().to_rover.at("Grasp"), 1L);
   }
 
-  // The last scan as a triangle mesh; two clicks plan a path that keeps off
-  // triangles beyond the slope limit, simplified within 5 % of its cost.
+  // The last scan as a triangle mesh, built on a worker once the tab is
+  // shown; two clicks plan a path that keeps off triangles beyond the
+  // slope limit, simplified within 5 % of its cost.
   void meshPanelPlansAPathBetweenTwoClicks() {
     Console c;
     auto& w = c.station.window();
+    auto& mesh = c.station.mesh();
     QVERIFY(c.scan(1));
+    QVERIFY(!mesh.mesh());  // not meshed while nobody looks
+    const long long scene = w.terrainView()->view()->visibleCells();
+    QSignalSpy built(&mesh, &ambler::gs::MeshController::meshBuilt);
     w.showMeshView();
+    QVERIFY(built.wait(30000));
+    QVERIFY(mesh.mesh()->size() > 100);
     auto& panel = *w.meshPanel();
-    QVERIFY(panel.mesh().size() > 100);
     // The 3-D view draws the mesh, then the path over it too (each once the
     // event loop has rebuilt the scene).
-    QCoreApplication::processEvents();
-    const long long with_mesh = w.terrainView()->view()->visibleCells();
+    const long long with_mesh = scene + (long long)(mesh.mesh()->size());  // a line each
+    QTRY_COMPARE(w.terrainView()->view()->visibleCells(), with_mesh);
     QTest::mouseClick(panel.meshView(), Qt::LeftButton, {},
                       panel.viewPointOf({0.0, 7.0}).toPoint());
     QVERIFY(panel.readout().contains("click the goal"));
+    QSignalSpy planned(&mesh, &ambler::gs::MeshController::pathPlanned);
     QTest::mouseClick(panel.meshView(), Qt::LeftButton, {},
                       panel.viewPointOf({1.0, 17.0}).toPoint());
-    QVERIFY2(panel.path() && panel.path()->found, qPrintable(panel.readout()));
-    const auto& path = *panel.path();
-    for (int t : path.triangles) QVERIFY(panel.mesh().slopeRad(t) <= 20 * M_PI / 180 + 1e-9);
+    QVERIFY(planned.wait(30000));
+    QVERIFY2(mesh.path() && mesh.path()->found, qPrintable(panel.readout()));
+    const auto& path = *mesh.path();
+    for (int t : path.triangles) QVERIFY(mesh.mesh()->slopeRad(t) <= 20 * M_PI / 180 + 1e-9);
     QVERIFY(path.simplified.size() < path.raw.size());
     QVERIFY(path.simplified_cost <= 1.05 * path.raw_cost);
     QVERIFY((path.simplified.back().head<2>() - Eigen::Vector2d(1, 17)).norm() < 0.2);
+    QVERIFY(panel.readout().contains("Path:"));
     QTRY_COMPARE(w.terrainView()->view()->visibleCells(), with_mesh + 1);  // one polyline
     for (const auto& [widget, name] : {std::pair<QWidget*, QString>{&panel, "terrain-mesh.png"},
                                        {w.terrainView(), "3d-view-mesh-path.png"}}) {
@@ -532,7 +541,8 @@ class GroundStationTest : public QObject {
     }
     // Another cost plans again.
     panel.costBox()->setCurrentIndex(2);
-    QVERIFY(panel.path() && panel.path()->found);
+    QVERIFY(planned.wait(30000));
+    QVERIFY(mesh.path() && mesh.path()->found);
     QVERIFY(panel.readout().contains("Path:"));
   }
 
@@ -545,6 +555,7 @@ class GroundStationTest : public QObject {
     QVERIFY(c.scan(1));  // the ground under the 3-D view
     w.showMeshView();
     auto& panel = *w.meshPanel();
+    auto& mesh = c.station.mesh();
     const auto model = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
     const ambler::sim::CourseScene here(1, model), on(1, model, {0.3, 2.0}, 5 * M_PI / 180);
     const auto first = here.scan(1);
@@ -553,21 +564,23 @@ class GroundStationTest : public QObject {
                                     Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ());
     second.sensor_to_world = error * second.sensor_to_world;
     const long long before = w.terrainView()->view()->visibleCells();
-    panel.addWalkScan(first);
-    QCOMPARE(panel.registeredScans().size(), std::size_t(1));  // the reference
-    const auto single = panel.mesh().size();
-    panel.addWalkScan(second);
-    QVERIFY(panel.registering());
+    mesh.addWalkScan(first);
+    QCOMPARE(mesh.registeredScans().size(), std::size_t(1));  // the reference
+    QTRY_VERIFY_WITH_TIMEOUT(mesh.mesh(), 30000);
+    const auto single = mesh.mesh()->size();
+    mesh.addWalkScan(second);
+    QVERIFY(mesh.registering());
     QVERIFY(panel.readout().contains("Registering 1 scan"));
-    QTRY_VERIFY_WITH_TIMEOUT(panel.registeredScans().size() == 2, 60000);
-    const Eigen::Isometry3d residual = panel.lastCorrection() * error;
+    QTRY_VERIFY_WITH_TIMEOUT(mesh.registeredScans().size() == 2, 60000);
+    const Eigen::Isometry3d residual = mesh.lastCorrection() * error;
     QVERIFY2(residual.translation().norm() < 0.03,
              qPrintable(QString::number(residual.translation().norm())));
     QVERIFY(Eigen::AngleAxisd(residual.linear()).angle() < 0.2 * M_PI / 180);
     QVERIFY2(panel.readout().contains("2 walk scans registered and merged"),
              qPrintable(panel.readout()));
-    QVERIFY(panel.mesh().size() > single);  // the second view adds ground
-    QVERIFY(w.terrainView()->view()->visibleCells() > before);
+    QTRY_VERIFY_WITH_TIMEOUT(mesh.mesh(), 30000);
+    QVERIFY(mesh.mesh()->size() > single);  // the second view adds ground
+    QTRY_VERIFY(w.terrainView()->view()->visibleCells() > before);
     for (const auto& [widget, name] :
          {std::pair<QWidget*, QString>{&panel, "terrain-mesh-merged.png"},
           {w.terrainView(), "3d-view-registered-scans.png"}}) {
@@ -576,7 +589,7 @@ class GroundStationTest : public QObject {
     }
     // A scan taken on demand replaces the walk's.
     QVERIFY(c.scan(1));
-    QVERIFY(panel.registeredScans().empty());
+    QVERIFY(mesh.registeredScans().empty());
   }
 
   // A camera image of sand with a rock field across the way ahead: the
