@@ -7,8 +7,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gait/LegRecovery.h"
-#include "gait/Support.h"
 #include "rendering/ColorMap.h"
 
 namespace ambler::widgets {
@@ -77,9 +75,9 @@ void MapView::setProposal(const std::optional<executive::StepProposal>& proposal
   recolor();  // the view follows the rover
 }
 
-void MapView::setStance(const std::optional<gait::Stance>& stance) {
+void MapView::setRover(const std::optional<RoverDisplay>& rover) {
   const Box2 before = viewBox();
-  stance_ = stance;
+  rover_ = rover;
   const Box2 after = viewBox();
   // The feet and the CSP are drawn over the map: only a view that follows
   // the rover elsewhere needs the map coloured again.
@@ -98,8 +96,8 @@ Box2 MapView::viewBox() const {
   Eigen::Vector2d centre(0, 0);
   if (proposal_)
     centre = proposal_->from.body.xy;
-  else if (stance_)
-    centre = stance_->body.xy;
+  else if (rover_)
+    centre = rover_->stance.body.xy;
   return {centre.x() - kHalfViewM, centre.y() - kHalfViewM, centre.x() + kHalfViewM,
           centre.y() + kHalfViewM};
 }
@@ -267,11 +265,8 @@ void MapView::drawColorBar(QPainter& p) const {
 // The proposed step's starting stance with its foothold (a red ring;
 // orange when an interlock failed), or the reported stance.
 void MapView::drawProposal(QPainter& p) const {
-  if (!proposal_) {
-    if (stance_) drawStance(p, *stance_);
-    return;
-  }
-  drawStance(p, proposal_->from);
+  if (rover_) drawRover(p, *rover_);
+  if (!proposal_) return;
   drawPaths(p);
   if (proposal_->plan.leg < 0) return;
   p.save();
@@ -300,11 +295,9 @@ void MapView::drawPaths(QPainter& p) const {
       p.drawLine(tip,
                  tip - 9 * QPointF(std::cos(angle + side * 0.5), std::sin(angle + side * 0.5)));
   }
-  if (plan.leg >= 0 && plan.recovery.found) {
+  if (!proposal_->foot_path.empty()) {
     QPolygonF foot;
-    for (const auto& q :
-         gait::footPath(model_, proposal_->from, plan.leg, plan.recovery, plan.foothold))
-      foot << widgetPointOf(q.head<2>());
+    for (const auto& q : proposal_->foot_path) foot << widgetPointOf(q.head<2>());
     p.setPen(QPen(QColor(255, 90, 90), 2));
     p.drawPolyline(foot);
   }
@@ -313,13 +306,11 @@ void MapView::drawPaths(QPainter& p) const {
 
 // Supporting feet white, lifted feet hollow, the conservative support
 // polygon of the supporting feet (cyan), the body centre as a cross.
-void MapView::drawStance(QPainter& p, const gait::Stance& stance) const {
+void MapView::drawRover(QPainter& p, const RoverDisplay& rover) const {
+  const auto& stance = rover.stance;
+  const auto& csp = rover.support_polygon;
   p.save();
   p.setRenderHint(QPainter::Antialiasing);
-  std::vector<Eigen::Vector2d> supporting;
-  for (std::size_t i = 0; i < stance.feet.size(); ++i)
-    if (stance.supporting[i]) supporting.push_back(stance.feet[i].head<2>());
-  const auto csp = gait::conservativeSupportPolygon(supporting);
   if (!csp.empty()) {
     QPolygonF polygon;
     for (const auto& v : csp) polygon << widgetPointOf(v);

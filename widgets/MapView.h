@@ -6,6 +6,7 @@
 
 #include "executive/ApprovalGate.h"
 #include "terrain/ElevationMap.h"
+#include "widgets/RoverDisplay.h"
 
 class QComboBox;
 
@@ -30,9 +31,10 @@ class MapView : public QWidget {
   void setProposal(const std::optional<executive::StepProposal>& proposal);
   // The rover as it reports itself, drawn (and followed) when no step is
   // proposed: a walk between steps, or a replay.
-  void setStance(const std::optional<gait::Stance>& stance);
+  // The rover drawn: the stance a pending step starts from, else the
+  // reported one.
+  void setRover(const std::optional<RoverDisplay>& rover);
   void setShown(Shown layer);
-  void setModel(const gait::RoverModel& model) { model_ = model; }
   Shown shown() const { return shown_; }
   const std::optional<terrain::ElevationMap>& map() const { return map_; }
   QSize sizeHint() const override { return {520, 520}; }
@@ -57,7 +59,7 @@ class MapView : public QWidget {
   Box2 viewBox() const;
   void drawColorBar(class QPainter& p) const;
   void drawProposal(class QPainter& p) const;
-  void drawStance(class QPainter& p, const gait::Stance& stance) const;
+  void drawRover(class QPainter& p, const RoverDisplay& rover) const;
   void drawPaths(class QPainter& p) const;
   // The proposal's cost map shown, if a cost layer is chosen and there is one.
   const footfall::ScoreMap* costShown() const;
@@ -65,9 +67,8 @@ class MapView : public QWidget {
 
   std::optional<terrain::ElevationMap> map_;
   std::optional<executive::StepProposal> proposal_;
-  std::optional<gait::Stance> stance_;
+  std::optional<RoverDisplay> rover_;
   Shown shown_ = Shown::kElevation;
-  gait::RoverModel model_;
   QImage colored_;                        // the view box, one pixel per cell
   double lo_ = 0.0, hi_ = 1.0;            // the colour bar's range
   double base_lo_ = 0.0, base_hi_ = 1.0;  // the map layer's, under any cost

@@ -11,8 +11,6 @@
 #include <cmath>
 #include <utility>
 
-#include "gait/LegRecovery.h"
-#include "gait/Support.h"
 #include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
 
@@ -54,8 +52,11 @@ void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outli
 
 void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans) {
   registered_.clear();
+  std::size_t total = 0;
+  for (const auto& scan : scans) total += scan.size();
+  // All of them together within the budget of one surface.
+  const std::size_t k = std::max<std::size_t>(1, (total + kDetailLimit - 1) / kDetailLimit);
   for (const auto& scan : scans) {
-    const std::size_t k = std::max<std::size_t>(1, scan.size() / kDetailLimit);
     std::vector<Eigen::Vector3f> few;
     for (std::size_t i = 0; i < scan.size(); i += k) few.push_back(scan[i].cast<float>());
     registered_.push_back(std::move(few));
@@ -113,18 +114,17 @@ void TerrainView::clear() {
 
 void TerrainView::setMap(const terrain::ElevationMap& map) {
   if (map.knownCount() == 0) return;
-  // The map's window around the rover keeps the surface light enough for
-  // software OpenGL (≤ 200 x 200 cells at 0.1 m).
-  const Eigen::Vector2d centre = stance_ ? stance_->body.xy : Eigen::Vector2d::Zero();
+  // The whole traverse so far: the extent of its known cells, thinned to
+  // at most kDetailLimit cells (about 0.2 m over a 50 m walk), so that the
+  // view keeps up on software OpenGL, still or orbiting.
   const GridSpec& g = map.grid();
-  const int c0 =
-      std::clamp(int(std::floor((centre.x() - 10 - g.origin_x) / g.resolution)), 0, g.cols);
-  const int c1 =
-      std::clamp(int(std::ceil((centre.x() + 10 - g.origin_x) / g.resolution)), 0, g.cols);
-  const int r0 =
-      std::clamp(int(std::floor((centre.y() - 10 - g.origin_y) / g.resolution)), 0, g.rows);
-  const int r1 =
-      std::clamp(int(std::ceil((centre.y() + 10 - g.origin_y) / g.resolution)), 0, g.rows);
+  int r0 = g.rows, r1 = -1, c0 = g.cols, c1 = -1;
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c)
+      if (map.isKnown(r, c))
+        r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+  r0 = std::max(0, r0 - 1), c0 = std::max(0, c0 - 1);
+  r1 = std::min(g.rows, r1 + 2), c1 = std::min(g.cols, c1 + 2);
   if (c1 - c0 < 2 || r1 - r0 < 2) return;
   GridSpec sub = g;
   sub.origin_x = g.origin_x + c0 * g.resolution, sub.origin_y = g.origin_y + r0 * g.resolution;
@@ -132,13 +132,13 @@ void TerrainView::setMap(const terrain::ElevationMap& map) {
   io::FloatImage z(sub.rows, sub.cols);
   for (int r = 0; r < sub.rows; ++r)
     for (int c = 0; c < sub.cols; ++c) z(r, c) = map.elevation(r0 + r, c0 + c);
-  map_ground_ = std::pair{sub, std::move(z)};
+  map_ground_ = rendering::thinned(sub, z, kDetailLimit);
   scheduleRebuild({kGround});
 }
 
-void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
+void TerrainView::setRover(const std::optional<RoverDisplay>& rover, const gait::RoverModel& model,
                            const std::optional<executive::StepProposal>& proposal) {
-  stance_ = proposal ? std::optional(proposal->from) : stance;
+  rover_ = rover;
   model_ = model;
   proposal_ = proposal;
   scheduleRebuild({kRover});
@@ -149,8 +149,9 @@ void TerrainView::setRover(const std::optional<gait::Stance>& stance, const gait
 // white, lifted ones orange; the conservative support polygon in cyan just
 // above the feet.
 void TerrainView::addRover() {
-  if (!stance_) return;
-  const auto& body = stance_->body;
+  if (!rover_) return;
+  const auto& stance = rover_->stance;
+  const auto& body = stance.body;
   const auto& h = model_.body_keepout_half;
   std::vector<Eigen::Vector3d> outline;
   for (const auto& corner : {Eigen::Vector2d(-h.x(), -h.y()), Eigen::Vector2d(h.x(), -h.y()),
@@ -159,30 +160,29 @@ void TerrainView::addRover() {
     outline.push_back(body.toWorld(Eigen::Vector3d(corner.x(), corner.y(), 0.0)));
   std::vector<std::vector<Eigen::Vector3d>> legs;
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
-    const Eigen::Vector3d foot = stance_->feet[std::size_t(leg)];
+    const Eigen::Vector3d foot = stance.feet[std::size_t(leg)];
     const Eigen::Vector3d foot_b = body.toBody(foot);
     const Eigen::Vector2d shaft = model_.shaftOf(leg);
     legs.push_back({body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.6)),
                     body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.0)),
                     body.toWorld(Eigen::Vector3d(foot_b.x(), foot_b.y(), 0.0)), foot});
-    const bool supporting = stance_->supporting[std::size_t(leg)];
+    const bool supporting = stance.supporting[std::size_t(leg)];
     show(kRover, rendering::makeSphere(foot, 0.15,
                                        supporting ? Eigen::Vector3d(0.95, 0.95, 0.95)
                                                   : Eigen::Vector3d(1.0, 0.6, 0.1)));
   }
   show(kRover, rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
   show(kRover, rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
-  std::vector<Eigen::Vector2d> supporting;
+  int supporting = 0;
   double z_sum = 0.0;
   for (int leg = 0; leg < gait::kLegCount; ++leg)
-    if (stance_->supporting[std::size_t(leg)]) {
-      supporting.push_back(stance_->feet[std::size_t(leg)].head<2>());
-      z_sum += stance_->feet[std::size_t(leg)].z();
+    if (stance.supporting[std::size_t(leg)]) {
+      ++supporting;
+      z_sum += stance.feet[std::size_t(leg)].z();
     }
-  const double z = supporting.empty() ? 0.0 : z_sum / double(supporting.size());
+  const double z = supporting == 0 ? 0.0 : z_sum / double(supporting);
   std::vector<Eigen::Vector3d> csp;
-  for (const auto& v : gait::conservativeSupportPolygon(supporting))
-    csp.push_back({v.x(), v.y(), z + 0.05});
+  for (const auto& v : rover_->support_polygon) csp.push_back({v.x(), v.y(), z + 0.05});
   if (csp.size() >= 3) {
     csp.push_back(csp.front());
     show(kRover, rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
@@ -196,10 +196,8 @@ void TerrainView::addProposal() {
   const auto& plan = proposal_->plan;
   if (plan.leg >= 0) {
     show(kRover, rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
-    if (plan.recovery.found)
-      show(kRover, rendering::makePolylines({gait::footPath(model_, proposal_->from, plan.leg,
-                                                            plan.recovery, plan.foothold)},
-                                            {1.0, 0.35, 0.35}, 3.0f));
+    if (!proposal_->foot_path.empty())
+      show(kRover, rendering::makePolylines({proposal_->foot_path}, {1.0, 0.35, 0.35}, 3.0f));
   }
   std::vector<Eigen::Vector3d> body;
   for (const auto& pose : plan.body_path) body.push_back({pose.xy.x(), pose.xy.y(), pose.link_z});
@@ -257,8 +255,8 @@ void TerrainView::rebuild() {
     if (display_) {
       const auto pose = display_->scan.sensor_to_world;
       placeCamera(pose.translation(), pose.linear() * Eigen::Vector3d::UnitY());
-    } else if (stance_) {
-      const auto& b = stance_->body;
+    } else if (rover_) {
+      const auto& b = rover_->stance.body;
       placeCamera(b.toWorld(Eigen::Vector3d(0, 0, 0)),
                   b.toWorld(Eigen::Vector3d(0, 1, 0)) - b.toWorld(Eigen::Vector3d(0, 0, 0)));
     }
@@ -303,6 +301,8 @@ void TerrainView::addScanPoints() {
   for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
   auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
   stand_in->GetProperty()->SetOpacity(0.35);
+  // Under a walk's map the scan taken before it is context: thinned.
+  if (map_ground_) return show(kGround, stand_in);
   showWithStandIn(kGround, cloud, stand_in);
 }
 

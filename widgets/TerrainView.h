@@ -8,6 +8,7 @@
 
 #include "executive/ApprovalGate.h"
 #include "terrain/ElevationMap.h"
+#include "widgets/RoverDisplay.h"
 #include "widgets/ScanDisplay.h"
 
 class QCheckBox;
@@ -37,10 +38,13 @@ class TerrainView : public QWidget {
   // Drops the scan, the map, the mesh overlay and registered scans: a
   // replay shows only the log's state, nothing before its first scan.
   void clear();
-  // The terrain map around the rover (±10 m) replaces the simulated ground.
+  // The whole traverse map replaces the simulated ground (at most
+  // kDetailLimit cells: thinned on a long walk).
   void setMap(const terrain::ElevationMap& map);
-  // The rover (body, legs by forward kinematics) and the proposal's foothold.
-  void setRover(const std::optional<gait::Stance>& stance, const gait::RoverModel& model,
+  // The rover (body, legs, support polygon: the stance a pending step
+  // starts from, else the reported one) and the proposal's foot path,
+  // foothold and body path.
+  void setRover(const std::optional<RoverDisplay>& rover, const gait::RoverModel& model,
                 const std::optional<executive::StepProposal>& proposal);
 
   // The terrain mesh's triangle outlines (grey) and a path over it (cyan),
@@ -51,7 +55,8 @@ class TerrainView : public QWidget {
   // the scan points.
   void setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans);
 
-  static constexpr int kDetailLimit = 20000;  // cells or points drawn while moving
+  static constexpr int kDetailLimit =
+      20000;  // cells or points of a map, a stand-in, the registered scans
   rendering::VtkView* view() const { return view_; }
   QSize sizeHint() const override { return {640, 480}; }
 
@@ -79,7 +84,7 @@ class TerrainView : public QWidget {
   std::vector<std::vector<Eigen::Vector3f>> registered_;  // thinned for drawing
   std::optional<ScanDisplay> display_;
   std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;
-  std::optional<gait::Stance> stance_;
+  std::optional<RoverDisplay> rover_;
   gait::RoverModel model_;
   std::optional<executive::StepProposal> proposal_;
   bool camera_placed_ = false;

@@ -29,6 +29,11 @@ void EventLoopWatchdog::start() {
 
 void EventLoopWatchdog::stop() { timer_.stop(); }
 
+void EventLoopWatchdog::resume() {
+  last_ns_ = clock_.nsecsElapsed();
+  timer_.start();
+}
+
 void EventLoopWatchdog::tick() {
   const qint64 now_ns = clock_.nsecsElapsed();
   const double late_ms = std::max(0.0, double(now_ns - last_ns_) / 1e6 - period_ms_);

@@ -28,6 +28,7 @@ class EventLoopWatchdog : public QObject {
 
   void start();  // forgets what was measured before
   void stop();
+  void resume();  // after stop(), keeping what was measured; the pause is not a stall
   [[nodiscard]] StallSummary summary() const;
 
  private:

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "app/gs/DdsConnection.h"
+#include "gait/Support.h"
 #include "missionlog/ReplayLinks.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
@@ -28,12 +29,18 @@ bool sameStance(const std::optional<gait::Stance>& a, const std::optional<gait::
          a->body.link_z == b->body.link_z && a->feet == b->feet && a->supporting == b->supporting;
 }
 
+// The stance as the views draw it, with the support polygon of its
+// supporting feet.
+std::optional<widgets::RoverDisplay> drawn(const std::optional<gait::Stance>& stance) {
+  if (!stance) return std::nullopt;
+  return widgets::RoverDisplay{*stance, gait::conservativeSupportPolygon(stance->supportingFeet())};
+}
+
 }  // namespace
 
 GroundStation::GroundStation(StationOptions options, QObject* parent)
     : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
   choice_.seed = options_.seed;
-  window_.mapView()->setModel(options_.ground.model);
   wireWindow();
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
     window_.terrainView()->setMeshOverlay(mesh_.outlines(), mesh_.pathPoints());
@@ -229,8 +236,9 @@ void GroundStation::showSession() {
     window_.mapView()->setProposal(state.pending);
   }
   if (proposal || !sameStance(before->reported, state.reported)) {
-    window_.mapView()->setStance(state.reported);
-    window_.terrainView()->setRover(state.reported, options_.ground.model, state.pending);
+    const auto rover = drawn(state.pending ? std::optional(state.pending->from) : state.reported);
+    window_.mapView()->setRover(rover);
+    window_.terrainView()->setRover(rover, options_.ground.model, state.pending);
   }
   if (!before || before->rows != state.rows) window_.commandLog()->setRows(*state.rows);
   shown_ = session_->sharedState();
@@ -274,7 +282,7 @@ void GroundStation::refreshTelemetry() {
                  history_.back().force_n != sample->force_n)) {
     history_.push_back(*sample);
     window_.telemetry()->setHistory(history_, session_start_s_);
-    window_.mapView()->setStance(sample->stance);
+    if (!state.pending) window_.mapView()->setRover(drawn(sample->stance));
   }
   window_.telemetry()->setRover(sample);
   if (state.phase != executive::Phase::kIdle)
@@ -369,7 +377,7 @@ void GroundStation::showReplayAt(double time_s) {
   if (pending && stance) pending->from = *stance;  // the rover stands still while it waits
   auto* map_view = window_.mapView();
   map_view->setProposal(pending && stance ? pending : std::nullopt);
-  map_view->setStance(stance);
+  map_view->setRover(drawn(stance));
   if (const auto* m = timeline_->mapAt(time_s)) {
     map_view->setMap(m->map);
     window_.terrainView()->setMap(m->map);
@@ -378,7 +386,7 @@ void GroundStation::showReplayAt(double time_s) {
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
     window_.terrainView()->clear();
   }
-  window_.terrainView()->setRover(stance, options_.ground.model, std::nullopt);
+  window_.terrainView()->setRover(drawn(stance), options_.ground.model, std::nullopt);
   auto* panel = window_.approvalPanel();
   panel->showProposal(pending);
   panel->setPhase(pending ? tr("replay: step %1 waits for a decision at this time").arg(pending->id)

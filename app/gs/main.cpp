@@ -89,6 +89,12 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
     poll->stop();
     const double walk_s = double(started->elapsed()) / 1000.0;
     const int done = session->state().steps_done;
+    // The 3-D view of the walk's whole traverse map, timed outside the
+    // stalls' count.
+    watchdog.stop();
+    auto* view = window.terrainView()->view();
+    const auto still = frameTimes(view, false), moving = frameTimes(view, true);
+    watchdog.resume();
     QObject::connect(&station.sampling(), &ambler::gs::SamplingController::trayShown, &station,
                      [&] {
                        auto* sampling = window.samplingPanel();
@@ -98,10 +104,14 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
                        window.showMeshView();
                      });
     station.showTray(3);
-    QTimer::singleShot(3000, &station, [&, walk_s, done, started] {
+    QTimer::singleShot(3000, &station, [&, walk_s, done, started, still, moving] {
       watchdog.stop();
       std::cout << "{\"steps\": " << done << ", \"walk_s\": " << walk_s
-                << ", \"session_s\": " << double(started->elapsed()) / 1000.0 << ", ";
+                << ", \"session_s\": " << double(started->elapsed()) / 1000.0
+                << ", \"map_frame_ms_still\": " << still.first
+                << ", \"map_cells_still\": " << still.second
+                << ", \"map_frame_ms_moving\": " << moving.first
+                << ", \"map_cells_moving\": " << moving.second << ", ";
       printStalls(watchdog.summary(), std::cout);
       std::cout << "}" << std::endl;
       QApplication::exit(0);

@@ -1,5 +1,7 @@
 #include "executive/ApprovalGate.h"
 
+#include "gait/LegRecovery.h"
+
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -10,6 +12,8 @@ StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::Step
   StepProposal p{id, from, std::move(plan), {}, {}};
   p.commands = stepCommands(p.plan, from);
   p.interlocks = checkInterlocks(p.plan, from, p.commands, map, context);
+  if (p.plan.leg >= 0 && p.plan.recovery.found)
+    p.foot_path = gait::footPath(context.model, from, p.plan.leg, p.plan.recovery, p.plan.foothold);
   return p;
 }
 

@@ -23,6 +23,9 @@ struct StepProposal {
   gait::StepPlan plan;
   std::vector<link::CommandBody> commands;
   InterlockReport interlocks;
+  // The recovering leg's sole along its planned path, in the world (for
+  // display; empty for a body move).
+  std::vector<Eigen::Vector3d> foot_path;
 };
 
 // The proposal for `plan` from `from`: its commands and their interlocks.
