@@ -7,6 +7,7 @@
 #include <QMessageBox>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
+#include <QThreadPool>
 #include <QTimer>
 #include <algorithm>
 #include <iostream>
@@ -129,6 +130,7 @@ int main(int argc, char** argv) {
   // VTK needs this format, and it must be the default before QApplication.
   QSurfaceFormat::setDefaultFormat(ambler::rendering::VtkView::defaultFormat());
   QApplication app(argc, argv);
+  QThreadPool::globalInstance()->setThreadPriority(QThread::IdlePriority);
   QApplication::setOrganizationName("Ambler");
   QApplication::setApplicationName("ambler-gs");
   QApplication::setApplicationVersion(AMBLER_VERSION);
