@@ -62,8 +62,15 @@ class WalkWorker : public QObject {
   }
 
   // The first call on the session's thread.
+  // The first call on the session's thread; a link that cannot be opened
+  // is refused, and the session then does nothing.
   void open() {
-    rover_link_ = rover_.open();
+    try {
+      rover_link_ = rover_.open();
+    } catch (const std::exception& e) {
+      return tellRefusal(OperatorAction::kConnect,
+                         Refusal::because(std::string("Could not connect: ") + e.what()));
+    }
     recording_ = std::make_unique<missionlog::RecordingLink>(*rover_link_, log_);
     link_ = std::make_unique<link::WatchedLink>(
         *recording_, health_, [] { return nowS(); },
@@ -77,6 +84,8 @@ class WalkWorker : public QObject {
                            }});
     makeExecutive({});
   }
+
+  bool opened() const { return executive_ != nullptr; }
 
   void start(int steps) {
     executive::ExecutiveOptions options;
@@ -311,44 +320,49 @@ std::optional<double> WalkSession::linkAgeS() const {
   return nowS() - *state_->last_heard_s;
 }
 
+// Carried out on the session's thread, in the order asked; nothing once
+// the link could not be opened.
+template <typename F>
+void WalkSession::ask(F f) {
+  QMetaObject::invokeMethod(worker_, [w = worker_, f = std::move(f)] {
+    if (w->opened()) f(*w);
+  });
+}
+
 void WalkSession::start(int steps) {
-  QMetaObject::invokeMethod(worker_, [w = worker_, steps] { w->start(steps); });
+  ask([steps](WalkWorker& w) { w.start(steps); });
 }
 
 void WalkSession::approve(quint64 proposal) {
-  QMetaObject::invokeMethod(
-      worker_, [w = worker_, proposal, who = operator_id_] { w->approve(proposal, who); });
+  ask([proposal, who = operator_id_](WalkWorker& w) { w.approve(proposal, who); });
 }
 
 void WalkSession::reject(quint64 proposal, const QString& reason) {
-  QMetaObject::invokeMethod(
-      worker_, [w = worker_, proposal, who = operator_id_, why = reason.toStdString()] {
-        w->reject(proposal, who, why);
-      });
+  ask([proposal, who = operator_id_, why = reason.toStdString()](WalkWorker& w) {
+    w.reject(proposal, who, why);
+  });
 }
 
 void WalkSession::editFoothold(quint64 proposal, double x_m, double y_m) {
-  QMetaObject::invokeMethod(worker_, [w = worker_, proposal, x_m, y_m, who = operator_id_] {
-    w->editFoothold(proposal, {x_m, y_m}, who);
+  ask([proposal, x_m, y_m, who = operator_id_](WalkWorker& w) {
+    w.editFoothold(proposal, {x_m, y_m}, who);
   });
 }
 
 void WalkSession::setAutoApprove(bool on) {
-  QMetaObject::invokeMethod(worker_, [w = worker_, on] { w->setAutoApprove(on); });
+  ask([on](WalkWorker& w) { w.setAutoApprove(on); });
 }
 
 void WalkSession::hold() {
-  QMetaObject::invokeMethod(worker_, [w = worker_, who = operator_id_] { w->hold(who); });
+  ask([who = operator_id_](WalkWorker& w) { w.hold(who); });
 }
 
 void WalkSession::resume() {
-  QMetaObject::invokeMethod(worker_, [w = worker_] { w->resume(); });
+  ask([](WalkWorker& w) { w.resume(); });
 }
 
 void WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
-  QMetaObject::invokeMethod(worker_, [w = worker_, plan, detail, who = operator_id_] {
-    w->sendGrasp(plan, detail, who);
-  });
+  ask([plan, detail, who = operator_id_](WalkWorker& w) { w.sendGrasp(plan, detail, who); });
 }
 
 }  // namespace ambler::gs

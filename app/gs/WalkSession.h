@@ -34,7 +34,7 @@ RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, s
                                     const QString& operator_id);
 
 // What the operator asked for that may be refused.
-enum class OperatorAction { kApprove, kReject, kEditFoothold, kAutoApprove, kGrasp };
+enum class OperatorAction { kConnect, kApprove, kReject, kEditFoothold, kAutoApprove, kGrasp };
 
 class WalkWorker;
 
@@ -101,6 +101,8 @@ class WalkSession : public QObject {
  private:
   friend class WalkWorker;  // tells the session by queued calls only
   void take(std::shared_ptr<const WalkState> state);
+  template <typename F>
+  void ask(F f);
 
   std::filesystem::path log_path_;
   std::string link_description_;
