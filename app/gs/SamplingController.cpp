@@ -38,6 +38,7 @@ SamplingController::SamplingController(widgets::SamplingPanel& panel, QObject* p
           &SamplingController::simulateTray);
   connect(&tray_watcher_, &QFutureWatcher<std::shared_ptr<Tray>>::finished, this,
           &SamplingController::showTray);
+  connect(&fit_watcher_, &QFutureWatcher<Fit>::finished, this, &SamplingController::showFit);
   connect(&panel_, &widgets::SamplingPanel::graspRequested, this, [this] {
     if (sample_ && sample_->grasp.ok)
       emit graspApproved(sample_->grasp, QString::fromStdString(fitRecord(*sample_, robust_)));
@@ -66,6 +67,7 @@ void SamplingController::showTray() {
   const auto tray = tray_watcher_.result();
   image_ = tray->image;
   features_ = tray->features;
+  ++image_id_;
   sample_.reset();
   panel_.showImage(tray->image, tray->features, tray->seeds);
   panel_.setSeed(tray->seed);
@@ -74,18 +76,38 @@ void SamplingController::showTray() {
 
 void SamplingController::fitAt(double row, double col, bool robust) {
   if (!image_) return;
-  sampling::SamplingOptions options;
-  options.fit.robust = robust_ = robust;
-  std::vector<sampling::Contour> stages;
-  try {
-    sample_ = sampling::sampleRock(*image_, *features_, {col, row}, options,
-                                   [&](const sampling::Contour& c) { stages.push_back(c); });
-  } catch (const std::invalid_argument& e) {
-    sample_.reset();
-    panel_.showFit(std::nullopt, {}, robust, QString::fromUtf8(e.what()));
+  if (fit_watcher_.isRunning()) {
+    next_fit_ = {{col, row}, robust};  // the newest click wins
     return;
   }
-  panel_.showFit(sample_, std::move(stages), robust);
+  sampling::SamplingOptions options;
+  options.fit.robust = robust;
+  fit_watcher_.setFuture(
+      QtConcurrent::run([image = *image_, features = *features_, at = Eigen::Vector2d(col, row),
+                         options, id = image_id_] {
+        Fit fit;
+        fit.robust = options.fit.robust;
+        fit.image = id;
+        try {
+          fit.sample =
+              sampling::sampleRock(image, features, at, options,
+                                   [&](const sampling::Contour& c) { fit.stages.push_back(c); });
+        } catch (const std::invalid_argument& e) {
+          fit.failure = QString::fromUtf8(e.what());
+        }
+        return fit;
+      }));
+}
+
+void SamplingController::showFit() {
+  auto fit = fit_watcher_.result();
+  if (const auto next = std::exchange(next_fit_, std::nullopt))
+    return fitAt(next->first.y(), next->first.x(), next->second);
+  if (fit.image != image_id_) return;  // a new tray came meanwhile
+  sample_ = std::move(fit.sample);
+  robust_ = fit.robust;
+  panel_.showFit(sample_, std::move(fit.stages), fit.robust, fit.failure);
+  emit fitted();
 }
 
 }  // namespace ambler::gs

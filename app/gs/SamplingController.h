@@ -27,7 +27,8 @@ class SamplingController : public QObject {
   // (rocks from resting on the sand to half buried), made with its
   // features and seeds on a worker thread; trayShown() follows.
   void simulateTray(quint64 seed);
-  // Contour, fit and grasp from the pixel (row, col); a failure is shown.
+  // Contour, fit and grasp from the pixel (row, col), on a worker thread;
+  // the panel shows the result or why there is none, then fitted().
   void fitAt(double row, double col, bool robust);
   const std::optional<sampling::RockSample>& sample() const { return sample_; }
 
@@ -36,6 +37,7 @@ class SamplingController : public QObject {
   // fit behind it.
   void graspApproved(const ambler::sampling::GraspPlan& plan, const QString& fit_json);
   void trayShown();
+  void fitted();
 
  private:
   struct Tray {
@@ -45,10 +47,21 @@ class SamplingController : public QObject {
     std::vector<sampling::Seed> seeds;
   };
   void showTray();
+  struct Fit {
+    std::optional<sampling::RockSample> sample;
+    std::vector<sampling::Contour> stages;
+    QString failure;
+    bool robust = true;
+    std::uint64_t image = 0;  // which tray image it fitted
+  };
+  void showFit();
 
   widgets::SamplingPanel& panel_;
   QFutureWatcher<std::shared_ptr<Tray>> tray_watcher_;
   std::optional<quint64> next_tray_;  // asked for while one was being made
+  QFutureWatcher<Fit> fit_watcher_;
+  std::optional<std::pair<Eigen::Vector2d, bool>> next_fit_;  // a click while fitting
+  std::uint64_t image_id_ = 0;
   std::optional<sensor::StriperImage> image_;
   std::optional<sampling::FeatureMap> features_;
   std::optional<sampling::RockSample> sample_;

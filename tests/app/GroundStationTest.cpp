@@ -455,7 +455,7 @@ class GroundStationTest : public QObject {
     const auto seed = panel.seeds().front().pixel;
     QTest::mouseClick(panel.imageView(), Qt::LeftButton, {},
                       panel.viewPointOf(seed.y(), seed.x()).toPoint());
-    QVERIFY(panel.sample().has_value());
+    QTRY_VERIFY_WITH_TIMEOUT(panel.sample().has_value(), 10000);  // fitted on a worker
     // The rock under the seed, in the same simulated tray.
     const ambler::sim::ProceduralTerrain tray(
         ambler::sim::makeWorkArea({.seed = 3, .burial_min = 0.0, .burial_max = 0.5}));
