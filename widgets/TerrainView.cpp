@@ -99,6 +99,7 @@ void TerrainView::addMeshOverlay() {
 
 void TerrainView::setScene(const ScanDisplay& display) {
   display_ = display;
+  map_ground_.reset();  // the newest wins: a scan taken after a walk replaces its map
   stale_[kGround] = true;
   rebuild();  // at once: the first scan's frame is what a launch waits for
 }
@@ -286,7 +287,8 @@ void TerrainView::addGround() {
 }
 
 void TerrainView::addScanPoints() {
-  if (!display_ || !show_points_->isChecked()) return;
+  // A walk's map replaces the scan taken before it, points and all.
+  if (!display_ || map_ground_ || !show_points_->isChecked()) return;
   const auto& scan = display_->scan;
   std::vector<Eigen::Vector3f> points;
   points.reserve(scan.range.size());
@@ -301,8 +303,6 @@ void TerrainView::addScanPoints() {
   for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
   auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
   stand_in->GetProperty()->SetOpacity(0.35);
-  // Under a walk's map the scan taken before it is context: thinned.
-  if (map_ground_) return show(kGround, stand_in);
   showWithStandIn(kGround, cloud, stand_in);
 }
 

@@ -34,6 +34,7 @@ class TerrainView : public QWidget {
  public:
   explicit TerrainView(QWidget* parent = nullptr);
 
+  // A scan and the ground under it; replaces a walk's map.
   void setScene(const ScanDisplay& display);
   // Drops the scan, the map, the mesh overlay and registered scans: a
   // replay shows only the log's state, nothing before its first scan.
