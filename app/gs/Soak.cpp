@@ -1,5 +1,7 @@
 #include "app/gs/Soak.h"
 
+#include <cmath>
+
 #include <unistd.h>
 
 #include <QApplication>
@@ -51,7 +53,8 @@ void Soak::poll() {
   if (phase != executive::Phase::kDone && phase != executive::Phase::kSuspended) return;
   poll_.stop();
   const int walked = session->state().steps_done;
-  if (steps_ < 200 && steps_ + walked >= 200) rss_at_200_mb_ = residentMb();
+  rss_after_walk_mb_.push_back(residentMb());
+  if (steps_ < 200 && steps_ + walked >= 200) rss_at_200_mb_ = rss_after_walk_mb_.back();
   steps_ += walked;
   if (steps_ >= target_steps_ || walked == 0) return finish();
   station_.openLog(QString::fromStdString(session->logPath().string()));
@@ -84,7 +87,11 @@ void Soak::finish() {
             << ", \"rss_growth_after_200_steps_mb\": "
             << (rss_at_200_mb_ >= 0 ? end_mb - rss_at_200_mb_ : 0.0)
             << ", \"stall_p99_ms\": " << watchdog_.summary().p99_ms
-            << ", \"stall_max_ms\": " << watchdog_.summary().max_ms << "}" << std::endl;
+            << ", \"stall_max_ms\": " << watchdog_.summary().max_ms
+            << ", \"rss_mb_after_each_walk\": [";
+  for (std::size_t i = 0; i < rss_after_walk_mb_.size(); ++i)
+    std::cout << (i ? ", " : "") << std::lround(rss_after_walk_mb_[i]);
+  std::cout << "]}" << std::endl;
   QApplication::exit(0);
 }
 

@@ -3,6 +3,7 @@
 #include <QElapsedTimer>
 #include <QObject>
 #include <QTimer>
+#include <vector>
 
 #include "app/gs/EventLoopWatchdog.h"
 #include "app/gs/GroundStation.h"
@@ -12,8 +13,8 @@ namespace ambler::gs {
 // A shift, accelerated (ambler-gs --soak N): auto-approved walks of up to
 // 50 steps on courses 1-10 in turn, each followed by opening its log,
 // scrubbing the replay and going through the tabs, until N steps are
-// walked; resident memory is read after the walk that passes 200 steps and
-// at the end. Prints JSON and quits.
+// walked; resident memory is read after each walk (the growth is counted
+// from the walk that passes 200 steps to the end). Prints JSON and quits.
 class Soak : public QObject {
   Q_OBJECT
 
@@ -31,6 +32,7 @@ class Soak : public QObject {
   int target_steps_;
   int steps_ = 0, walks_ = 0;
   double rss_at_200_mb_ = -1.0;
+  std::vector<double> rss_after_walk_mb_;  // whether it levels off or keeps growing
   QTimer poll_;
   QElapsedTimer clock_;
   bool started_ = false;

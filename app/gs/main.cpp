@@ -1,5 +1,6 @@
 // ambler-gs: the operator's ground station. Starts against the built-in
 // simulator, so a new user sees a scan and its terrain on first launch.
+#include <malloc.h>
 #include <QApplication>
 #include <QCheckBox>
 #include <QCommandLineParser>
@@ -9,6 +10,7 @@
 #include <QSurfaceFormat>
 #include <QThreadPool>
 #include <QTimer>
+
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -125,6 +127,10 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
 
 int main(int argc, char** argv) {
   ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
+  // A heap per thread (the walk session, the pools, llvmpipe's) would keep
+  // each one's peak for good: two heaps hold the station's resident memory
+  // to its working set over a shift (README, A shift).
+  mallopt(M_ARENA_MAX, 2);
   QElapsedTimer since_start;
   since_start.start();
   // VTK needs this format, and it must be the default before QApplication.

@@ -133,6 +133,31 @@ class GroundStationTest : public QObject {
     QVERIFY((c.session().pending()->from.body.xy - after).norm() < 0.05);
   }
 
+  // The link opens on the session's own thread: when it cannot, the
+  // operator is told why, and later actions do nothing instead of failing.
+  void aRoverThatCannotBeReachedIsRefusedNotFatal() {
+    QTemporaryDir logs;
+    ambler::gs::RoverConnection rover;
+    rover.open = []() -> std::unique_ptr<ambler::link::Link> {
+      throw std::runtime_error("no rover on the test's link");
+    };
+    rover.key = {"alice", std::vector<std::uint8_t>(32, 7)};
+    rover.mission = "unreachable";
+    WalkSession session(options(logs.path()).ground, std::move(rover),
+                        QDir(logs.path()).filePath("walk.sqlite").toStdString());
+    QSignalSpy refused(&session, &WalkSession::refused);
+    QVERIFY(refused.wait(5000));
+    QCOMPARE(refused.front().at(0).value<ambler::gs::OperatorAction>(),
+             ambler::gs::OperatorAction::kConnect);
+    QVERIFY2(refused.front().at(1).toString().contains("no rover on the test's link"),
+             qPrintable(refused.front().at(1).toString()));
+    session.start(1);
+    session.approve(1);
+    QTest::qWait(300);
+    QCOMPARE(refused.size(), 1);
+    QCOMPARE(session.state().phase, Phase::kIdle);
+  }
+
   void theMapShowsTheKnownCellsOfTheFirstScan() {
     Console c;
     c.start(1);
