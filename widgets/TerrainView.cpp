@@ -54,8 +54,10 @@ void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector
   registered_.clear();
   std::size_t total = 0;
   for (const auto& scan : scans) total += scan.size();
-  // All of them together within the budget of one surface.
-  const std::size_t k = std::max<std::size_t>(1, (total + kDetailLimit - 1) / kDetailLimit);
+  // All of them together within half the budget of a surface: they show
+  // whether the scans agree, not the ground's detail.
+  const std::size_t budget = kDetailLimit / 2;
+  const std::size_t k = std::max<std::size_t>(1, (total + budget - 1) / budget);
   for (const auto& scan : scans) {
     std::vector<Eigen::Vector3f> few;
     for (std::size_t i = 0; i < scan.size(); i += k) few.push_back(scan[i].cast<float>());
