@@ -128,10 +128,10 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
 int main(int argc, char** argv) {
   ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
   // A heap per thread (the walk session, the pools, llvmpipe's) would keep
-  // each one's peak for good; four heaps hold the station's resident memory
-  // level over a shift, and more than two keep llvmpipe's threads from
-  // waiting on each other's allocations (README, A shift).
-  mallopt(M_ARENA_MAX, 4);
+  // each one's peak for good. Two heaps hold the station's resident memory
+  // level over a shift; four let it climb by steps (README, A shift), at
+  // the price of llvmpipe's threads sharing the heaps.
+  mallopt(M_ARENA_MAX, 2);
   QElapsedTimer since_start;
   since_start.start();
   // VTK needs this format, and it must be the default before QApplication.
