@@ -78,7 +78,7 @@ void TerrainView::addRegisteredScans() {
                                                               {0.6, 0.6, 1.0}}};
   for (std::size_t i = 0; i < registered_.size(); ++i) {
     const auto& c = kColours[i % kColours.size()];
-    show(kOverlay, rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
+    addTo(kOverlay, rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
   }
 }
 
@@ -93,10 +93,10 @@ void TerrainView::addMeshOverlay() {
   if (!mesh_outlines_.empty()) {
     std::vector<std::vector<Eigen::Vector3d>> outlines;
     for (const auto& o : mesh_outlines_) outlines.push_back(lifted(o));
-    show(kOverlay, rendering::makePolylines(outlines, {0.8, 0.8, 0.8}, 1.0f));
+    addTo(kOverlay, rendering::makePolylines(outlines, {0.8, 0.8, 0.8}, 1.0f));
   }
   if (mesh_path_.size() >= 2)
-    show(kOverlay, rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
+    addTo(kOverlay, rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
 }
 
 void TerrainView::setScene(const ScanDisplay& display) {
@@ -170,12 +170,12 @@ void TerrainView::addRover() {
                     body.toWorld(Eigen::Vector3d(shaft.x(), shaft.y(), 0.0)),
                     body.toWorld(Eigen::Vector3d(foot_b.x(), foot_b.y(), 0.0)), foot});
     const bool supporting = stance.supporting[std::size_t(leg)];
-    show(kRover, rendering::makeSphere(foot, 0.15,
-                                       supporting ? Eigen::Vector3d(0.95, 0.95, 0.95)
-                                                  : Eigen::Vector3d(1.0, 0.6, 0.1)));
+    addTo(kRover, rendering::makeSphere(foot, 0.15,
+                                        supporting ? Eigen::Vector3d(0.95, 0.95, 0.95)
+                                                   : Eigen::Vector3d(1.0, 0.6, 0.1)));
   }
-  show(kRover, rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
-  show(kRover, rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
+  addTo(kRover, rendering::makePolylines({outline}, {0.3, 0.9, 1.0}, 3.0f));
+  addTo(kRover, rendering::makePolylines(legs, {1.0, 0.85, 0.3}, 4.0f));
   int supporting = 0;
   double z_sum = 0.0;
   for (int leg = 0; leg < gait::kLegCount; ++leg)
@@ -188,7 +188,7 @@ void TerrainView::addRover() {
   for (const auto& v : rover_->support_polygon) csp.push_back({v.x(), v.y(), z + 0.05});
   if (csp.size() >= 3) {
     csp.push_back(csp.front());
-    show(kRover, rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
+    addTo(kRover, rendering::makePolylines({csp}, {0.0, 0.9, 1.0}, 3.0f));
   }
 }
 
@@ -198,13 +198,13 @@ void TerrainView::addProposal() {
   if (!proposal_) return;
   const auto& plan = proposal_->plan;
   if (plan.leg >= 0) {
-    show(kRover, rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
+    addTo(kRover, rendering::makeSphere(plan.foothold, 0.2, {1.0, 0.2, 0.2}));
     if (!proposal_->foot_path.empty())
-      show(kRover, rendering::makePolylines({proposal_->foot_path}, {1.0, 0.35, 0.35}, 3.0f));
+      addTo(kRover, rendering::makePolylines({proposal_->foot_path}, {1.0, 0.35, 0.35}, 3.0f));
   }
   std::vector<Eigen::Vector3d> body;
   for (const auto& pose : plan.body_path) body.push_back({pose.xy.x(), pose.xy.y(), pose.link_z});
-  show(kRover, rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
+  addTo(kRover, rendering::makePolylines({body}, {1.0, 1.0, 1.0}, 3.0f));
 }
 
 // Changes that come together (the map, the rover, the proposal after a
@@ -218,12 +218,12 @@ void TerrainView::scheduleRebuild(std::initializer_list<Layer> layers) {
   });
 }
 
-void TerrainView::show(Layer layer, vtkProp* prop) {
+void TerrainView::addTo(Layer layer, vtkProp* prop) {
   view_->renderer()->AddViewProp(prop);
   props_[layer].push_back(prop);
 }
 
-void TerrainView::showWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in) {
+void TerrainView::addToWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in) {
   view_->addWithStandIn(detailed, stand_in);
   props_[layer].push_back(detailed);
 }
@@ -232,10 +232,15 @@ void TerrainView::rebuild() {
   rebuild_pending_ = false;
   const bool empty = !display_ && !map_ground_;
   for (int layer = 0; layer < kLayerCount; ++layer) {
-    if (!std::exchange(stale_[layer], false) && !empty) continue;
+    if (!empty && !std::exchange(stale_[layer], false)) continue;
     for (vtkProp* prop : props_[layer]) view_->remove(prop);
     props_[layer].clear();
-    if (empty) continue;  // nothing: not the old scene
+    // Nothing to draw: not the old scene, and every layer drawn again once
+    // there is a scene.
+    if (empty) {
+      stale_[layer] = true;
+      continue;
+    }
     switch (Layer(layer)) {
       case kGround:
         addGround();
@@ -268,8 +273,8 @@ void TerrainView::rebuild() {
   view_->render();
 }
 
-// The map's window or the simulated ground, coloured by elevation, with
-// its colour bar.
+// The walk's map or the simulated ground, coloured by elevation, with its
+// colour bar.
 void TerrainView::addGround() {
   const auto& [grid, ground] =
       map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
@@ -279,13 +284,14 @@ void TerrainView::addGround() {
   auto table = rendering::makeViridisTable(lo, hi);
   if (grid.cellCount() > kDetailLimit) {
     const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);
-    showWithStandIn(kGround, rendering::makeHeightSurface(grid, ground, table),
-                    rendering::makeHeightSurface(thin_grid, thin, table));
+    addToWithStandIn(kGround, rendering::makeHeightSurface(grid, ground, table),
+                     rendering::makeHeightSurface(thin_grid, thin, table));
   } else {
-    show(kGround, rendering::makeHeightSurface(grid, ground, table));
+    addTo(kGround, rendering::makeHeightSurface(grid, ground, table));
   }
-  show(kGround, rendering::makeColorBar(table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]",
-                                        devicePixelRatioF()));
+  addTo(kGround,
+        rendering::makeColorBar(table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]",
+                                devicePixelRatioF()));
 }
 
 void TerrainView::addScanPoints() {
@@ -299,13 +305,13 @@ void TerrainView::addScanPoints() {
       if (scan.hasReturn(r, c)) points.push_back(scan.pointInWorld(r, c).cast<float>());
   auto cloud = rendering::makePointCloud(points, {0.92, 0.92, 0.92}, 1.0f);
   cloud->GetProperty()->SetOpacity(0.35);  // the surface shows through
-  if (points.size() <= std::size_t(kDetailLimit)) return show(kGround, cloud);
+  if (points.size() <= std::size_t(kDetailLimit)) return addTo(kGround, cloud);
   const std::size_t k = (points.size() + kDetailLimit - 1) / kDetailLimit;
   std::vector<Eigen::Vector3f> few;
   for (std::size_t i = 0; i < points.size(); i += k) few.push_back(points[i]);
   auto stand_in = rendering::makePointCloud(few, {0.92, 0.92, 0.92}, 1.0f);
   stand_in->GetProperty()->SetOpacity(0.35);
-  showWithStandIn(kGround, cloud, stand_in);
+  addToWithStandIn(kGround, cloud, stand_in);
 }
 
 // Behind and above the sensor (or body), looking along `ahead`, far enough

@@ -67,8 +67,8 @@ class TerrainView : public QWidget {
   enum Layer { kGround, kRover, kOverlay, kLayerCount };
   void scheduleRebuild(std::initializer_list<Layer> layers);
   void rebuild();
-  void show(Layer layer, vtkProp* prop);
-  void showWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in);
+  void addTo(Layer layer, vtkProp* prop);
+  void addToWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in);
   void addGround();
   void addScanPoints();
   void addRover();

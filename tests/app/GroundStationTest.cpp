@@ -158,6 +158,30 @@ class GroundStationTest : public QObject {
     QCOMPARE(session.state().phase, Phase::kIdle);
   }
 
+  // The 3-D view cleared for a new walk draws the rover again as soon as
+  // the walk's first map arrives, without waiting for the rover to move.
+  void theThreeDViewDrawsTheRoverAgainOnceAMapFollowsAClear() {
+    ambler::widgets::TerrainView view;
+    view.resize(400, 300);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    ambler::terrain::ElevationMap map(ambler::GridSpec{-5.0, -5.0, 0.1, 100, 100});
+    for (int r = 0; r < 100; ++r)
+      for (int c = 0; c < 100; ++c) map.setKnown(r, c, 0.01 * (r % 7), 0.01);
+    ambler::gait::Stance stance;
+    for (int leg = 0; leg < ambler::gait::kLegCount; ++leg)
+      stance.feet[std::size_t(leg)] = {leg < 3 ? -2.0 : 2.0, -1.0 + (leg % 3), 0.0};
+    const ambler::widgets::RoverDisplay rover{stance, {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
+    view.setRover(rover, options({}).ground.model, std::nullopt);
+    view.setMap(map);
+    QTRY_VERIFY(view.view()->visibleCells() > 0);
+    const long long with_rover = view.view()->visibleCells();
+    view.clear();
+    QTRY_COMPARE(view.view()->visibleCells(), 0LL);
+    view.setMap(map);
+    QTRY_COMPARE(view.view()->visibleCells(), with_rover);
+  }
+
   void theMapShowsTheKnownCellsOfTheFirstScan() {
     Console c;
     c.start(1);
