@@ -170,13 +170,16 @@ Refusal GroundStation::openSession() {
   connect(session_.get(), &WalkSession::changed, this, &GroundStation::showSession);
   connect(session_.get(), &WalkSession::eventNoted, this,
           [this](const QString& what) { window_.setStatus(tr("Walk: %1").arg(what)); });
-  connect(session_.get(), &WalkSession::refused, this,
-          [this](OperatorAction action, const QString& why) {
-            if (action == OperatorAction::kEditFoothold) return window_.setStatus(why);
-            if (action == OperatorAction::kGrasp)
-              return window_.samplingPanel()->setGraspAnswer(tr("Not sent: %1").arg(why), false);
-            window_.showError(why);
-          });
+  connect(
+      session_.get(), &WalkSession::refused, this,
+      [this](OperatorAction action, const QString& why) {
+        if (action == OperatorAction::kEditFoothold) return window_.setStatus(why);
+        if (action == OperatorAction::kAutoApprove)
+          return window_.setStatus(tr("Walk: auto-approve refused the waiting step: %1").arg(why));
+        if (action == OperatorAction::kGrasp)
+          return window_.samplingPanel()->setGraspAnswer(tr("Not sent: %1").arg(why), false);
+        window_.showError(why);
+      });
   connect(session_.get(), &WalkSession::graspSent, this, [this] {
     window_.samplingPanel()->setGraspAnswer(
         tr("Grasp sent, signed by %1 and logged; waiting for the rover's answer")
