@@ -36,7 +36,7 @@ SamplingController::SamplingController(widgets::SamplingPanel& panel, QObject* p
   connect(&panel_, &widgets::SamplingPanel::fitRequested, this, &SamplingController::fitAt);
   connect(&panel_, &widgets::SamplingPanel::sceneRequested, this,
           &SamplingController::simulateTray);
-  connect(&tray_watcher_, &QFutureWatcher<std::shared_ptr<Tray>>::finished, this,
+  connect(&tray_watcher_, &QFutureWatcher<std::shared_ptr<const Tray>>::finished, this,
           &SamplingController::showTray);
   connect(&fit_watcher_, &QFutureWatcher<Fit>::finished, this, &SamplingController::showFit);
   connect(&panel_, &widgets::SamplingPanel::graspRequested, this, [this] {
@@ -50,7 +50,7 @@ void SamplingController::simulateTray(quint64 seed) {
     next_tray_ = seed;  // the newest wish wins
     return;
   }
-  tray_watcher_.setFuture(QtConcurrent::run([seed] {
+  tray_watcher_.setFuture(QtConcurrent::run([seed]() -> std::shared_ptr<const Tray> {
     const sim::ProceduralTerrain tray(
         sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
     auto made = std::make_shared<Tray>();
@@ -64,46 +64,41 @@ void SamplingController::simulateTray(quint64 seed) {
 
 void SamplingController::showTray() {
   if (const auto next = std::exchange(next_tray_, std::nullopt)) return simulateTray(*next);
-  const auto tray = tray_watcher_.result();
-  image_ = tray->image;
-  features_ = tray->features;
-  ++image_id_;
+  tray_ = tray_watcher_.result();
   sample_.reset();
-  panel_.showImage(tray->image, tray->features, tray->seeds);
-  panel_.setSeed(tray->seed);
+  panel_.showImage(tray_->image, tray_->features, tray_->seeds);
+  panel_.setSeed(tray_->seed);
   emit trayShown();
 }
 
 void SamplingController::fitAt(double row, double col, bool robust) {
-  if (!image_) return;
+  if (!tray_) return;
   if (fit_watcher_.isRunning()) {
     next_fit_ = {{col, row}, robust};  // the newest click wins
     return;
   }
   sampling::SamplingOptions options;
   options.fit.robust = robust;
-  fit_watcher_.setFuture(
-      QtConcurrent::run([image = *image_, features = *features_, at = Eigen::Vector2d(col, row),
-                         options, id = image_id_] {
-        Fit fit;
-        fit.robust = options.fit.robust;
-        fit.image = id;
-        try {
-          fit.sample =
-              sampling::sampleRock(image, features, at, options,
-                                   [&](const sampling::Contour& c) { fit.stages.push_back(c); });
-        } catch (const std::invalid_argument& e) {
-          fit.failure = QString::fromUtf8(e.what());
-        }
-        return fit;
-      }));
+  fit_watcher_.setFuture(QtConcurrent::run([tray = tray_, at = Eigen::Vector2d(col, row), options] {
+    Fit fit;
+    fit.robust = options.fit.robust;
+    fit.tray = tray;
+    try {
+      fit.sample =
+          sampling::sampleRock(tray->image, tray->features, at, options,
+                               [&](const sampling::Contour& c) { fit.stages.push_back(c); });
+    } catch (const std::invalid_argument& e) {
+      fit.failure = QString::fromUtf8(e.what());
+    }
+    return fit;
+  }));
 }
 
 void SamplingController::showFit() {
   auto fit = fit_watcher_.result();
   if (const auto next = std::exchange(next_fit_, std::nullopt))
     return fitAt(next->first.y(), next->first.x(), next->second);
-  if (fit.image != image_id_) return;  // a new tray came meanwhile
+  if (fit.tray != tray_) return;  // a new tray came meanwhile
   sample_ = std::move(fit.sample);
   robust_ = fit.robust;
   panel_.showFit(sample_, std::move(fit.stages), fit.robust, fit.failure);

@@ -52,18 +52,16 @@ class SamplingController : public QObject {
     std::vector<sampling::Contour> stages;
     QString failure;
     bool robust = true;
-    std::uint64_t image = 0;  // which tray image it fitted
+    std::shared_ptr<const Tray> tray;  // the one it fitted
   };
   void showFit();
 
   widgets::SamplingPanel& panel_;
-  QFutureWatcher<std::shared_ptr<Tray>> tray_watcher_;
+  QFutureWatcher<std::shared_ptr<const Tray>> tray_watcher_;
+  std::shared_ptr<const Tray> tray_;  // the one shown
   std::optional<quint64> next_tray_;  // asked for while one was being made
   QFutureWatcher<Fit> fit_watcher_;
   std::optional<std::pair<Eigen::Vector2d, bool>> next_fit_;  // a click while fitting
-  std::uint64_t image_id_ = 0;
-  std::optional<sensor::StriperImage> image_;
-  std::optional<sampling::FeatureMap> features_;
   std::optional<sampling::RockSample> sample_;
   bool robust_ = true;
 };
