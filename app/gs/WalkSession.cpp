@@ -61,7 +61,6 @@ class WalkWorker : public QObject {
     connect(&timer_, &QTimer::timeout, this, [this] { poll(); });
   }
 
-  // The first call on the session's thread.
   // The first call on the session's thread; a link that cannot be opened
   // is refused, and the session then does nothing.
   void open() {
