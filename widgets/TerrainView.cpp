@@ -101,7 +101,7 @@ void TerrainView::addMeshOverlay() {
 
 void TerrainView::setScene(const ScanDisplay& display) {
   display_ = display;
-  map_ground_.reset();  // the newest wins: a scan taken after a walk replaces its map
+  scan_over_map_ = true;
   stale_[kGround] = true;
   rebuild();  // at once: the first scan's frame is what a launch waits for
 }
@@ -136,6 +136,7 @@ void TerrainView::setMap(const terrain::ElevationMap& map) {
   for (int r = 0; r < sub.rows; ++r)
     for (int c = 0; c < sub.cols; ++c) z(r, c) = map.elevation(r0 + r, c0 + c);
   map_ground_ = rendering::thinned(sub, z, kDetailLimit);
+  scan_over_map_ = false;
   scheduleRebuild({kGround});
 }
 
@@ -295,8 +296,8 @@ void TerrainView::addGround() {
 }
 
 void TerrainView::addScanPoints() {
-  // A walk's map replaces the scan taken before it, points and all.
-  if (!display_ || map_ground_ || !show_points_->isChecked()) return;
+  // Over a walk's map, only the points of a scan that came after it.
+  if (!display_ || (map_ground_ && !scan_over_map_) || !show_points_->isChecked()) return;
   const auto& scan = display_->scan;
   std::vector<Eigen::Vector3f> points;
   points.reserve(scan.range.size());

@@ -34,7 +34,8 @@ class TerrainView : public QWidget {
  public:
   explicit TerrainView(QWidget* parent = nullptr);
 
-  // A scan and the ground under it; replaces a walk's map.
+  // A scan and the ground under it (a walk's map, when there is one, stays
+  // the ground; the scan's points are drawn over it until the next map).
   void setScene(const ScanDisplay& display);
   // Drops the scan, the map, the mesh overlay and registered scans: a
   // replay shows only the log's state, nothing before its first scan.
@@ -88,6 +89,7 @@ class TerrainView : public QWidget {
   std::optional<RoverDisplay> rover_;
   gait::RoverModel model_;
   std::optional<executive::StepProposal> proposal_;
+  bool scan_over_map_ = false;  // the scan came after the map: its points are drawn
   bool camera_placed_ = false;
   bool rebuild_pending_ = false;
   std::array<std::vector<vtkProp*>, kLayerCount> props_;  // owned by the renderer
