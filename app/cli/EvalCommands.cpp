@@ -1,11 +1,13 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <sstream>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
 #include "sim/CourseScene.h"
+#include "sim/TerrainFamilies.h"
 #include "terrain/Binning.h"
 #include "terrain/Locus.h"
 #include "terrain/MapScore.h"
@@ -16,10 +18,19 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+// A scanner placement of the evaluation: height above the ground under the
+// rover and tilt of the boresight.
+struct SensorPose {
+  double height_m = 5.0;
+  double tilt_deg = 30.0;
+};
+
 struct EvalElevationArgs {
-  std::vector<std::uint64_t> seeds{1, 2, 3};
-  std::vector<double> noise_k{0.0, 1e-4, 2e-4, 4e-4};
-  std::vector<double> tilts_deg{20.0, 30.0, 40.0};
+  std::vector<std::string> families;  // empty: all
+  std::vector<std::uint64_t> seeds;   // empty: the evaluation seeds
+  bool tuning = false;                // the tuning seeds instead
+  std::vector<double> noise_k{0.0, 2.5e-4, 5e-4, 1e-3};
+  std::vector<std::string> poses{"1.5:12", "3:25", "5:30", "6:45"};
   std::string region = "-10,3,10,23";
   double resolution = 0.05;
   int threads = 1;
@@ -44,6 +55,10 @@ nlohmann::json scoreJson(const terrain::MapScore& s) {
           {"coverage", optionalNumber(s.coverage())},
           {"shadow_recall", optionalNumber(s.shadowRecall())},
           {"shadow_precision", optionalNumber(s.shadowPrecision())},
+          {"shadow_recall_within_1_cell", optionalNumber(s.shadowRecallWithin1())},
+          {"shadow_precision_within_1_cell", optionalNumber(s.shadowPrecisionWithin1())},
+          {"occluded_known", optionalNumber(s.occludedKnown())},
+          {"occluded_known_far", s.occludedKnownFar()},
           {"sigma_calibration", optionalNumber(s.sigmaCalibration())},
           {"known_cells", s.knownCells()}};
 }
@@ -60,6 +75,11 @@ nlohmann::json methodJson(const MethodResult& m) {
   return j;
 }
 
+// The scores of both methods, pooled over what they were added from.
+struct Scores {
+  MethodResult locus, binning;
+};
+
 template <typename Build>
 void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& truth, Build&& build) {
   const auto start = std::chrono::steady_clock::now();
@@ -71,57 +91,116 @@ void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& tru
   result.by_noise[k].add(map, truth.height, truth.state, k > 0);
 }
 
-void printTable(const nlohmann::json& report) {
-  std::cout << "method   noise_k   rmse_m   coverage  shadow_recall  shadow_precision  "
-               "sigma_calibration\n";
-  for (const auto& [name, m] : report["methods"].items())
+nlohmann::json methodsJson(const Scores& s) {
+  return {{"locus", methodJson(s.locus)}, {"binning", methodJson(s.binning)}};
+}
+
+constexpr const char* kTableKeys[] = {"rmse_m",
+                                      "coverage",
+                                      "shadow_recall_within_1_cell",
+                                      "shadow_precision_within_1_cell",
+                                      "occluded_known",
+                                      "occluded_known_far",
+                                      "sigma_calibration"};
+
+void printMethods(const std::string& prefix, const nlohmann::json& methods) {
+  for (const auto& [name, m] : methods.items())
     for (const auto& level : m["by_noise"]) {
-      std::cout << name << "  " << level["noise_k"] << "  ";
-      for (const char* key :
-           {"rmse_m", "coverage", "shadow_recall", "shadow_precision", "sigma_calibration"})
-        std::cout << level[key] << "  ";
+      std::cout << prefix << name << "  " << level["noise_k"] << "  ";
+      for (const char* key : kTableKeys) std::cout << level[key] << "  ";
       std::cout << "\n";
     }
+}
+
+// The pooled table first (method, k, figures), then one per family with the
+// family's name in front.
+void printTable(const nlohmann::json& report) {
+  std::cout << "method   noise_k";
+  for (const char* key : kTableKeys) std::cout << "  " << key;
+  std::cout << "\n";
+  printMethods("", report["methods"]);
+  for (const auto& [family, r] : report["families"].items())
+    printMethods(family + ": ", r["methods"]);
+}
+
+std::vector<sim::TerrainFamily> familiesOf(const std::vector<std::string>& names) {
+  if (names.empty()) return {sim::kTerrainFamilies.begin(), sim::kTerrainFamilies.end()};
+  std::vector<sim::TerrainFamily> families;
+  for (const auto& n : names) {
+    const auto f = sim::parseFamily(n);
+    if (!f) throw CLI::ValidationError("--families", "unknown terrain family '" + n + "'");
+    families.push_back(*f);
+  }
+  return families;
+}
+
+SensorPose parsePose(const std::string& text) {
+  SensorPose p;
+  char colon = 0;
+  std::istringstream in(text);
+  if (!(in >> p.height_m >> colon >> p.tilt_deg) || colon != ':' || !in.eof() ||
+      !(p.height_m >= 0.5 && p.height_m <= 20) || !(p.tilt_deg >= 5 && p.tilt_deg <= 80))
+    throw CLI::ValidationError("--poses", "'" + text +
+                                              "' is not HEIGHT:TILT with a height of "
+                                              "0.5-20 m and a tilt of 5-80 degrees");
+  return p;
 }
 
 nlohmann::json evalElevation(const EvalElevationArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const auto base = sim::readScannerModel(findResource("config/scanner.json"));
   const Box2 region = parseRegion(a.region);
-  MethodResult locus, binning;
+  const auto families = familiesOf(a.families);
+  std::vector<SensorPose> poses;
+  for (const auto& p : a.poses) poses.push_back(parsePose(p));
+  std::vector<std::uint64_t> seeds = a.seeds;
+  if (seeds.empty() && a.tuning) seeds.assign(sim::kTuningSeeds.begin(), sim::kTuningSeeds.end());
+  if (seeds.empty()) seeds.assign(sim::kEvaluationSeeds.begin(), sim::kEvaluationSeeds.end());
   terrain::LocusOptions options;
   options.threads = a.threads;
   options.edges = a.edges;
+  const auto grid = GridSpec::covering(region, a.resolution);
+  Scores pooled;
+  nlohmann::json by_family = nlohmann::json::object();
   int scenes = 0;
-  for (const double tilt : a.tilts_deg)
-    for (const auto seed : a.seeds) {
-      auto model = base;
-      model.tilt = tilt * kDeg;
-      const sim::CourseScene scene(seed, model);
-      const auto grid = GridSpec::covering(region, a.resolution);
-      const auto truth = scene.truth(grid);
-      for (const double k : a.noise_k) {
-        auto noisy = model;
-        noisy.range_sigma_k = k;
-        const auto image = sim::simulateScan(scene.caster(), noisy, scene.sensorPose(), seed);
-        scoreMethod(locus, k, truth, [&] { return terrain::buildLocusMap(image, grid, options); });
-        scoreMethod(binning, k, truth, [&] { return terrain::buildBinnedMap(image, grid); });
-        ++scenes;
+  for (const auto family : families) {
+    Scores scores;
+    for (const auto seed : seeds)
+      for (const auto& pose : poses) {
+        auto model = base;
+        model.mount_height = pose.height_m;
+        model.tilt = pose.tilt_deg * kDeg;
+        const sim::CourseScene scene(sim::makeFamilyTerrain(family, seed), model);
+        const auto truth = scene.truth(grid);
+        for (const double k : a.noise_k) {
+          auto noisy = model;
+          noisy.range_sigma_k = k;
+          const auto image = sim::simulateScan(scene.caster(), noisy, scene.sensorPose(), seed);
+          auto locus = [&] { return terrain::buildLocusMap(image, grid, options); };
+          auto binning = [&] { return terrain::buildBinnedMap(image, grid); };
+          for (auto* s : {&scores, &pooled}) {
+            scoreMethod(s->locus, k, truth, locus);
+            scoreMethod(s->binning, k, truth, binning);
+          }
+          ++scenes;
+        }
       }
-    }
-  const nlohmann::json report{
-      {"scenes", scenes},
-      {"seeds", a.seeds},
-      {"noise_k", a.noise_k},
-      {"tilts_deg", a.tilts_deg},
-      {"region", a.region},
-      {"resolution", a.resolution},
-      {"threads", a.threads},
-      {"min_grazing_deg", a.edges.min_grazing_deg},
-      {"edge_noise_sigmas", a.edges.noise_sigmas},
-      {"methods", {{"locus", methodJson(locus)}, {"binning", methodJson(binning)}}},
-      {"elapsed_ms", millisecondsSince(start)}};
-  return report;
+    by_family[std::string(sim::familyName(family))] = {{"methods", methodsJson(scores)}};
+  }
+  return {{"scenes", scenes},
+          {"seeds", seeds},
+          {"seed_set", a.seeds.empty() ? (a.tuning ? "tuning" : "evaluation") : "given"},
+          {"noise_k", a.noise_k},
+          {"poses", a.poses},
+          {"region", a.region},
+          {"resolution", a.resolution},
+          {"threads", a.threads},
+          {"shadow_tolerance", "within_1_cell: one cell, 8-neighbourhood"},
+          {"min_grazing_deg", a.edges.min_grazing_deg},
+          {"edge_noise_sigmas", a.edges.noise_sigmas},
+          {"methods", methodsJson(pooled)},
+          {"families", by_family},
+          {"elapsed_ms", millisecondsSince(start)}};
 }
 
 }  // namespace
@@ -131,15 +210,21 @@ void addEval(CLI::App& app) {
   eval->require_subcommand(1);
   auto args = std::make_shared<EvalElevationArgs>();
   auto* cmd = eval->add_subcommand(
-      "elevation", "Locus method vs Cartesian binning on simulated scans of the obstacle course");
-  cmd->add_option("--seeds", args->seeds, "course seeds")->delimiter(',')->capture_default_str();
+      "elevation",
+      "Locus method vs Cartesian binning on simulated scans of several terrain families");
+  cmd->add_option("--families", args->families,
+                  "terrain families: course, rocks, craters, rough, negative, slope (default: all)")
+      ->delimiter(',');
+  cmd->add_option("--seeds", args->seeds, "terrain seeds (default: the evaluation seeds)")
+      ->delimiter(',');
+  cmd->add_flag("--tuning", args->tuning, "use the tuning seeds instead of the evaluation seeds");
   cmd->add_option("--noise", args->noise_k, "range noise levels k [1/m]")
       ->delimiter(',')
       ->check(CLI::Range(0.0, 0.01))
       ->capture_default_str();
-  cmd->add_option("--tilts", args->tilts_deg, "scanner tilts [deg]")
+  cmd->add_option("--poses", args->poses,
+                  "scanner placements HEIGHT:TILT [m above the ground, degrees down]")
       ->delimiter(',')
-      ->check(CLI::Range(5.0, 80.0))
       ->capture_default_str();
   cmd->add_option("--region", args->region,
                   "map area XMIN,YMIN,XMAX,YMAX [m]; the rover stands at the origin facing +y")

@@ -4,7 +4,11 @@ namespace ambler::sim {
 
 CourseScene::CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d rover_xy,
                          double heading)
-    : terrain_(makeObstacleCourse({.seed = seed})),
+    : CourseScene(makeObstacleCourse({.seed = seed}), std::move(model), rover_xy, heading) {}
+
+CourseScene::CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy,
+                         double heading)
+    : terrain_(std::move(terrain)),
       caster_(terrain_),
       model_(std::move(model)),
       rover_(rover_xy.x(), rover_xy.y(), terrain_.height(rover_xy.x(), rover_xy.y())),

@@ -8,12 +8,15 @@
 
 namespace ambler::sim {
 
-// The obstacle course of one seed with the rover standing on it and its
-// scanner mounted: what every simulated scan needs (terrain, ray caster,
-// sensor pose). Holds references between its parts, so it does not move.
+// A procedural terrain (by default the obstacle course of one seed) with the rover standing on it
+// and its scanner mounted: what every simulated scan needs (terrain, ray caster, sensor pose).
+// Holds references between its parts, so it does not move.
 class CourseScene {
  public:
   CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
+              double heading = 0.0);
+  // Any procedural terrain in place of the course.
+  CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
               double heading = 0.0);
   CourseScene(const CourseScene&) = delete;
   CourseScene& operator=(const CourseScene&) = delete;

@@ -15,6 +15,10 @@ struct Overloaded : Ts... {
   using Ts::operator()...;
 };
 
+bool overlap(const Box2& a, const Box2& b) {
+  return a.x_min <= b.x_max && a.x_max >= b.x_min && a.y_min <= b.y_max && a.y_max >= b.y_min;
+}
+
 const Footprint* footprintOf(const Feature& f) {
   return std::visit(Overloaded{[](const Rock&) -> const Footprint* { return nullptr; },
                                [](const auto& other) { return &other.footprint; }},
@@ -40,10 +44,60 @@ Box2 Footprint::bounds() const {
   return {cx - ex, cy - ey, cx + ex, cy + ey};
 }
 
+double Crater::relief(double x, double y) const {
+  const double R = radius();
+  const double r = std::hypot(x - cx, y - cy);
+  if (r <= R) {
+    const double floor = rim_height - depth;
+    return floor + (rim_height - floor) * (r / R) * (r / R);
+  }
+  if (r >= 3 * R) return 0.0;
+  // Ejecta, shifted so that it meets the plain ground at 3 R.
+  const double q = R / r;
+  return rim_height * (q * q * q - 1.0 / 27) / (1 - 1.0 / 27);
+}
+
+std::array<int, 4> ProceduralTerrain::Bins::range(const Box2& b) const {
+  auto col = [&](double x) { return std::clamp(int((x - extent.x_min) / size), 0, cols - 1); };
+  auto row = [&](double y) { return std::clamp(int((y - extent.y_min) / size), 0, rows - 1); };
+  return {col(b.x_min), col(b.x_max), row(b.y_min), row(b.y_max)};
+}
+
+template <class F>
+void ProceduralTerrain::Bins::forEachIn(const Box2& box, F&& f) const {
+  const auto [c0, c1, r0, r1] = range(box);
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c)
+      for (int i : items[std::size_t(r) * cols + c]) f(i);
+}
+
+void ProceduralTerrain::Bins::build(const Box2& e, const std::vector<Box2>& bounds) {
+  extent = e;
+  cols = std::max(1, int(std::ceil(e.width() / size)));
+  rows = std::max(1, int(std::ceil(e.height() / size)));
+  items.assign(std::size_t(cols) * rows, {});
+  for (int i = 0; i < int(bounds.size()); ++i) {
+    const auto [c0, c1, r0, r1] = range(bounds[std::size_t(i)]);
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c) items[std::size_t(r) * cols + c].push_back(i);
+  }
+}
+
+const std::vector<int>& ProceduralTerrain::Bins::near(double x, double y) const {
+  static const std::vector<int> kNone;
+  const int c = int(std::floor((x - extent.x_min) / size));
+  const int r = int(std::floor((y - extent.y_min) / size));
+  if (c < 0 || r < 0 || c >= cols || r >= rows) return kNone;
+  return items[std::size_t(r) * cols + c];
+}
+
 ProceduralTerrain::ProceduralTerrain(TerrainDescription description)
-    : description_(std::move(description)) {
-  for (const auto& w : description_.waves)
-    wave_slope_bound_ += std::abs(w.amplitude) * std::hypot(w.kx, w.ky);
+    : description_(std::move(description)), wave_sum_(description_.waves) {
+  std::vector<Box2> crater_bounds;
+  for (const auto& c : description_.craters)
+    crater_bounds.push_back(
+        {c.cx - c.reach(), c.cy - c.reach(), c.cx + c.reach(), c.cy + c.reach()});
+  crater_bins_.build(description_.extent, crater_bounds);
 
   for (const auto& f : description_.features) {
     if (const auto* fp = footprintOf(f)) {
@@ -51,7 +105,8 @@ ProceduralTerrain::ProceduralTerrain(TerrainDescription description)
       feature_bounds_.push_back(fp->bounds());
       feature_top_.push_back(std::visit(
           Overloaded{[&](const BoxObstacle& b) { return ground + b.height; },
-                     [&](const Trench&) { return kNoTop; },
+                     // The rim: a trench's walls fall from there to its floor.
+                     [&](const Trench&) { return ground; },
                      [&](const Ramp& r) {
                        const auto foot = r.footprint;
                        const double c = std::cos(foot.yaw), s = std::sin(foot.yaw);
@@ -68,47 +123,47 @@ ProceduralTerrain::ProceduralTerrain(TerrainDescription description)
       feature_top_.push_back(c.z() + rock.size.z());
     }
   }
+  // Finer bins where features are dense (rock fields), so that a height
+  // looks at few of them.
+  const double per_m2 = double(feature_bounds_.size()) /
+                        std::max(1.0, description_.extent.width() * description_.extent.height());
+  feature_bins_.size = per_m2 > 1.0 ? 0.5 : 2.0;
+  feature_bins_.build(description_.extent, feature_bounds_);
+}
 
-  const auto& e = description_.extent;
-  bin_cols_ = std::max(1, int(std::ceil(e.width() / bin_size_)));
-  bin_rows_ = std::max(1, int(std::ceil(e.height() / bin_size_)));
-  bins_.assign(std::size_t(bin_cols_) * bin_rows_, {});
-  for (int i = 0; i < int(feature_bounds_.size()); ++i) {
-    const auto& b = feature_bounds_[std::size_t(i)];
-    const int c0 = std::clamp(int((b.x_min - e.x_min) / bin_size_), 0, bin_cols_ - 1);
-    const int c1 = std::clamp(int((b.x_max - e.x_min) / bin_size_), 0, bin_cols_ - 1);
-    const int r0 = std::clamp(int((b.y_min - e.y_min) / bin_size_), 0, bin_rows_ - 1);
-    const int r1 = std::clamp(int((b.y_max - e.y_min) / bin_size_), 0, bin_rows_ - 1);
-    for (int r = r0; r <= r1; ++r)
-      for (int c = c0; c <= c1; ++c) bins_[std::size_t(r) * bin_cols_ + c].push_back(i);
-  }
+double ProceduralTerrain::planeAndWaves(double x, double y) const {
+  return description_.base_height + description_.gradient.dot(Eigen::Vector2d(x, y)) +
+         wave_sum_(x, y);
 }
 
 double ProceduralTerrain::groundHeight(double x, double y) const {
-  double z = description_.base_height;
-  for (const auto& w : description_.waves)
-    z += w.amplitude * std::sin(w.kx * x + w.ky * y + w.phase);
+  double z = planeAndWaves(x, y);
+  for (int i : crater_bins_.near(x, y)) z += description_.craters[std::size_t(i)].relief(x, y);
   return z;
 }
 
-const std::vector<int>& ProceduralTerrain::featuresNear(double x, double y) const {
-  const auto& e = description_.extent;
-  const int c = int((x - e.x_min) / bin_size_), r = int((y - e.y_min) / bin_size_);
-  if (c < 0 || r < 0 || c >= bin_cols_ || r >= bin_rows_) return no_features_;
-  return bins_[std::size_t(r) * bin_cols_ + c];
+namespace {
+
+double trenchHeight(const Trench& t, double rim, double x, double y) {
+  const double floor = rim - t.depth;
+  if (t.wall_run <= 0.0) return floor;
+  const double from_edge = t.footprint.half_y - std::abs(t.footprint.toLocal(x, y).y());
+  return from_edge >= t.wall_run ? floor : rim - t.depth * from_edge / t.wall_run;
 }
+
+}  // namespace
 
 ProceduralTerrain::Evaluated ProceduralTerrain::evaluate(double x, double y) const {
   Evaluated out{groundHeight(x, y), -1};
-  const auto& near = featuresNear(x, y);
+  const auto& near = feature_bins_.near(x, y);
   // Trenches carve the ground first; raised features then sit on the result.
   for (int i : near) {
     const auto& f = description_.features[std::size_t(i)];
-    if (const auto* t = std::get_if<Trench>(&f); t && t->footprint.contains(x, y)) {
-      out = {groundHeight(t->footprint.cx, t->footprint.cy) - t->depth, i};
-    }
+    if (const auto* t = std::get_if<Trench>(&f); t && t->footprint.contains(x, y))
+      out = {trenchHeight(*t, feature_top_[std::size_t(i)], x, y), i};
   }
   for (int i : near) {
+    if (!feature_bounds_[std::size_t(i)].contains(x, y)) continue;
     const auto& f = description_.features[std::size_t(i)];
     const double top = std::visit(
         Overloaded{[&](const BoxObstacle& b) {
@@ -137,14 +192,27 @@ int ProceduralTerrain::featureAt(double x, double y) const { return evaluate(x, 
 
 double ProceduralTerrain::maxHeightIn(const Box2& box) const {
   const double cx = 0.5 * (box.x_min + box.x_max), cy = 0.5 * (box.y_min + box.y_max);
-  const double half_diagonal = 0.5 * std::hypot(box.width(), box.height());
-  double bound = groundHeight(cx, cy) + wave_slope_bound_ * half_diagonal;
-  for (std::size_t i = 0; i < feature_bounds_.size(); ++i) {
-    const auto& b = feature_bounds_[i];
-    const bool overlaps = b.x_min <= box.x_max && b.x_max >= box.x_min && b.y_min <= box.y_max &&
-                          b.y_max >= box.y_min;
-    if (overlaps) bound = std::max(bound, feature_top_[i]);
+  const double r = 0.5 * std::hypot(box.width(), box.height());
+  // Each wave stays within its amplitude and within its slope times the
+  // distance from the centre: the first bounds the short waves, the second
+  // the long ones.
+  double bound = description_.base_height + description_.gradient.dot(Eigen::Vector2d(cx, cy)) +
+                 description_.gradient.norm() * r;
+  for (const auto& w : description_.waves) {
+    const double a = std::abs(w.amplitude);
+    const double at_centre = w.amplitude * std::sin(w.kx * cx + w.ky * cy + w.phase);
+    bound += std::min(a, at_centre + a * std::hypot(w.kx, w.ky) * r);
   }
+  // Craters add to each other where they overlap; each adds at most its rim.
+  std::vector<int> craters;
+  crater_bins_.forEachIn(box, [&](int i) { craters.push_back(i); });
+  std::sort(craters.begin(), craters.end());
+  craters.erase(std::unique(craters.begin(), craters.end()), craters.end());
+  for (int i : craters) bound += std::max(0.0, description_.craters[std::size_t(i)].rim_height);
+  feature_bins_.forEachIn(box, [&](int i) {
+    if (overlap(feature_bounds_[std::size_t(i)], box))
+      bound = std::max(bound, feature_top_[std::size_t(i)]);
+  });
   return bound;
 }
 

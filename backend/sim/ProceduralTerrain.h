@@ -1,10 +1,12 @@
 #pragma once
 
+#include <array>
 #include <variant>
 #include <vector>
 
 #include "core/Superquadric.h"
 #include "sim/Terrain.h"
+#include "sim/WaveSum.h"
 
 namespace ambler::sim {
 
@@ -37,11 +39,14 @@ struct BoxObstacle {
   double height = 1.0;
 };
 
-// A pit with vertical walls and a flat floor `depth` below the ground at its
-// centre.
+// A pit with a flat floor `depth` below the ground at its centre. Its long
+// walls (along the local x axis) drop over a horizontal run of `wall_run`
+// each: 0 gives vertical walls, half_y a V-shaped ditch. The end walls are
+// vertical. A footprint reaching past the extent makes a step down.
 struct Trench {
   Footprint footprint;
   double depth = 1.0;
+  double wall_run = 0.0;  // [m]
 };
 
 // An incline rising along the local +x axis over the first `run` metres of
@@ -59,17 +64,38 @@ struct Rock {
 
 using Feature = std::variant<BoxObstacle, Trench, Ramp, Rock>;
 
-// Everything that defines a procedural terrain: rolling ground plus
-// features, within an extent.
+// A fresh bowl-shaped impact crater, added to the ground: a parabolic bowl
+// `depth` below its rim crest, the rim `rim_height` above the surrounding
+// ground, ejecta falling off as (R / r)^3 out to three radii (the profile
+// used for small fresh lunar and Martian craters, e.g. Fassett & Thomson
+// 2014).
+struct Crater {
+  double cx = 0.0;
+  double cy = 0.0;
+  double diameter = 2.0;     // rim crest to rim crest [m]
+  double depth = 0.4;        // rim crest to floor [m]
+  double rim_height = 0.08;  // above the pre-impact ground [m]
+
+  double radius() const { return 0.5 * diameter; }
+  double reach() const { return 1.5 * diameter; }  // ejecta ends at 3 R
+  // Height added to the ground at (x, y) [m].
+  double relief(double x, double y) const;
+};
+
+// Everything that defines a procedural terrain: ground (a plane, waves and
+// craters) plus features, within an extent.
 struct TerrainDescription {
   Box2 extent{-20.0, -10.0, 20.0, 50.0};
   double base_height = 0.0;
+  Eigen::Vector2d gradient{0.0, 0.0};  // dz/dx, dz/dy of the plane
   std::vector<Wave> waves;
+  std::vector<Crater> craters;
   std::vector<Feature> features;
 };
 
-// Analytic terrain: z = rolling ground, carved by trenches, raised by boxes,
-// ramps and rocks (the highest wins). Heights are exact, not sampled.
+// Analytic terrain: z = ground (plane + waves + craters), carved by
+// trenches, raised by boxes, ramps and rocks (the highest wins). Heights
+// are exact, not sampled.
 class ProceduralTerrain : public Terrain {
  public:
   explicit ProceduralTerrain(TerrainDescription description);
@@ -78,7 +104,7 @@ class ProceduralTerrain : public Terrain {
   double maxHeightIn(const Box2& box) const override;
   Box2 extent() const override { return description_.extent; }
 
-  // The rolling ground alone, without features.
+  // The ground alone (plane, waves, craters), without features.
   double groundHeight(double x, double y) const;
 
   // Index into description().features of the feature that sets the height
@@ -93,17 +119,32 @@ class ProceduralTerrain : public Terrain {
     int feature;
   };
   Evaluated evaluate(double x, double y) const;
-  const std::vector<int>& featuresNear(double x, double y) const;
+  // Uniform bins over the extent listing the items (features or craters)
+  // whose bounds overlap them.
+  struct Bins {
+    double size = 2.0;
+    Box2 extent;
+    int cols = 0, rows = 0;
+    std::vector<std::vector<int>> items;
+
+    void build(const Box2& extent, const std::vector<Box2>& bounds);
+    const std::vector<int>& near(double x, double y) const;
+    // Calls f(item) for every item listed in a bin overlapping `box`
+    // (an item may come more than once).
+    template <class F>
+    void forEachIn(const Box2& box, F&& f) const;
+
+   private:
+    // The bins overlapping `box`, clamped to the grid: c0, c1, r0, r1.
+    std::array<int, 4> range(const Box2& box) const;
+  };
+  double planeAndWaves(double x, double y) const;
 
   TerrainDescription description_;
-  double wave_slope_bound_ = 0.0;    // Lipschitz constant of the ground
+  WaveSum wave_sum_;
   std::vector<double> feature_top_;  // absolute top height of each feature
   std::vector<Box2> feature_bounds_;
-  // Uniform bins over the extent listing the features that overlap them.
-  double bin_size_ = 2.0;
-  int bin_cols_ = 0, bin_rows_ = 0;
-  std::vector<std::vector<int>> bins_;
-  std::vector<int> no_features_;
+  Bins feature_bins_, crater_bins_;
 };
 
 }  // namespace ambler::sim

@@ -11,6 +11,15 @@ std::optional<double> ratio(double numerator, long denominator) {
   if (denominator == 0) return std::nullopt;
   return numerator / double(denominator);
 }
+
+// Whether pred holds for a cell within one cell of (r, c), itself included.
+template <class Pred>
+bool near(const GridSpec& g, int r, int c, Pred&& pred) {
+  for (int rr = std::max(0, r - 1); rr <= std::min(g.rows - 1, r + 1); ++rr)
+    for (int cc = std::max(0, c - 1); cc <= std::min(g.cols - 1, c + 1); ++cc)
+      if (pred(rr, cc)) return true;
+  return false;
+}
 }  // namespace
 
 void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
@@ -29,6 +38,20 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
         shadow_hit_ += shadow && occluded;
         shadow_false_ += shadow && !occluded;
         shadow_missed_ += !shadow && occluded;
+        if (occluded) {
+          ++occluded_;
+          occluded_found_ += near(
+              g, r, c, [&](int rr, int cc) { return map.state(rr, cc) == CellState::kShadow; });
+        }
+        if (shadow) {
+          ++shadow_;
+          shadow_right_ += near(g, r, c, [&](int rr, int cc) { return true_state(rr, cc) == 2; });
+        }
+        if (occluded && state == CellState::kKnown) {
+          ++occluded_known_;
+          occluded_known_far_ +=
+              !near(g, r, c, [&](int rr, int cc) { return true_state(rr, cc) == 0; });
+        }
       }
       if (state != CellState::kKnown || !std::isfinite(true_height(r, c))) continue;
       visible_known_ += truth == 0;
@@ -57,6 +80,18 @@ std::optional<double> MapScore::shadowRecall() const {
 
 std::optional<double> MapScore::shadowPrecision() const {
   return ratio(double(shadow_hit_), shadow_hit_ + shadow_false_);
+}
+
+std::optional<double> MapScore::shadowRecallWithin1() const {
+  return ratio(double(occluded_found_), occluded_);
+}
+
+std::optional<double> MapScore::shadowPrecisionWithin1() const {
+  return ratio(double(shadow_right_), shadow_);
+}
+
+std::optional<double> MapScore::occludedKnown() const {
+  return ratio(double(occluded_known_), occluded_);
 }
 
 std::optional<double> MapScore::sigmaCalibration() const {

@@ -27,6 +27,17 @@ class MapScore {
   // of occluded cells marked shadow, and of shadow cells truly occluded.
   std::optional<double> shadowRecall() const;
   std::optional<double> shadowPrecision() const;
+  // The same with a one-cell tolerance at the shadow's boundary: an
+  // occluded cell counts as found when the map has shadow within one cell
+  // (8-neighbourhood), a shadow cell as right when truth has an occluded
+  // cell within one cell.
+  std::optional<double> shadowRecallWithin1() const;
+  std::optional<double> shadowPrecisionWithin1() const;
+  // Safety: the fraction of truly occluded cells the map reports known
+  // (their height is made up), and how many of those have no truly
+  // visible cell within one cell.
+  std::optional<double> occludedKnown() const;
+  long occludedKnownFar() const { return occluded_known_far_; }
   // Standard deviation of error / sigma over known cells with sigma > 0;
   // 1 when the sigmas are honest.
   std::optional<double> sigmaCalibration() const;
@@ -37,6 +48,8 @@ class MapScore {
   long known_ = 0;
   long visible_ = 0, visible_known_ = 0;
   long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
+  long occluded_ = 0, occluded_found_ = 0, shadow_ = 0, shadow_right_ = 0;
+  long occluded_known_ = 0, occluded_known_far_ = 0;
   double sum_ratio_ = 0.0, sum_ratio_sq_ = 0.0;
   long ratios_ = 0;
 };

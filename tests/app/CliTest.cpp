@@ -442,11 +442,13 @@ TEST(Cli, FootfallWritesScoresAndPrintsTheBestFoothold) {
 // A small slice of `eval elevation`: the locus method beats binning at each
 // noise level and finds the shadows (docs and README carry the full run).
 TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
-  const auto run =
-      runCli("eval elevation --json --seeds 1 --tilts 30 --noise 0,0.0002 --threads 2");
+  const auto run = runCli(
+      "eval elevation --json --families course --seeds 1 --poses 5:30 --noise 0,0.0002 "
+      "--threads 2");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const auto report = nlohmann::json::parse(run.out);
   EXPECT_EQ(report["scenes"], 2);
+  EXPECT_EQ(report["seed_set"], "given");
   const auto& locus = report["methods"]["locus"];
   const auto& binning = report["methods"]["binning"];
   for (int level = 0; level < 2; ++level)
@@ -456,8 +458,31 @@ TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
   EXPECT_GT(locus["coverage"].get<double>(), 0.95);
   EXPECT_GT(locus["shadow_recall"].get<double>(), 0.9);
   EXPECT_GT(locus["shadow_precision"].get<double>(), 0.9);
+  EXPECT_GE(locus["shadow_recall_within_1_cell"].get<double>(),
+            locus["shadow_recall"].get<double>());
   EXPECT_GT(locus["ms_per_map"].get<double>(), 0.0);
   EXPECT_EQ(binning["shadow_recall"], 0.0);  // binning cannot tell a shadow
+  EXPECT_EQ(report["families"].size(), 1u);
+  EXPECT_TRUE(report["families"].contains("course"));
+}
+
+// Each terrain family builds and scores; names and placements that do not
+// parse are refused with the option named.
+TEST(Cli, EvalElevationCoversTheFamiliesAndRefusesBadOptions) {
+  auto run = runCli(
+      "eval elevation --json --families rocks,craters,rough,negative,slope --seeds 1 "
+      "--poses 4:30 --noise 0 --region=-4,4,4,12");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto report = nlohmann::json::parse(run.out);
+  EXPECT_EQ(report["families"].size(), 5u);
+  for (const auto& [name, family] : report["families"].items())
+    EXPECT_GT(family["methods"]["locus"]["coverage"].get<double>(), 0.8) << name;
+  run = runCli("eval elevation --families moon --seeds 1 --noise 0");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("moon"), std::string::npos) << run.out;
+  run = runCli("eval elevation --families course --poses 30 --seeds 1 --noise 0");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("HEIGHT:TILT"), std::string::npos) << run.out;
 }
 
 }  // namespace

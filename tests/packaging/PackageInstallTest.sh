@@ -54,9 +54,11 @@ QT_QPA_PLATFORM=offscreen env -u AMBLER_DATA_DIR "$root/usr/bin/ambler-gs" --ver
 # simulated scans against the simulator's truth (its table: method, k,
 # rmse_m, coverage, ...). The locus method must beat binning at both noise
 # levels and cover over 90 % of the visible cells.
-env -u AMBLER_DATA_DIR "$cli" eval elevation --seeds 1 --tilts 30 --noise 0,2e-4 \
+env -u AMBLER_DATA_DIR "$cli" eval elevation --families course --seeds 1 --poses 5:30 \
+  --noise 0,2e-4 \
   > "$scratch/eval.txt" 2> /dev/null || fail "eval elevation"
 cat "$scratch/eval.txt"
+# Only the pooled table: its lines start with the method.
 awk '$1 == "binning" { binning[$2] = $3 }
      $1 == "locus" { locus[$2] = $3; coverage[$2] = $4 }
      END {

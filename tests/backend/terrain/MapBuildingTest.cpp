@@ -75,5 +75,28 @@ TEST(MapScore, CountsAgainstTruth) {
   EXPECT_THROW(score.add(map, io::FloatImage(2, 2), state), std::invalid_argument);
 }
 
+TEST(MapScore, ToleratesOneCellAtShadowBoundariesAndCountsMadeUpCells) {
+  ElevationMap map(GridSpec::covering({0, 0, 8, 1}, 1.0));
+  io::FloatImage height(1, 8, 0.0f);
+  //                        0  1  2  3  4  5  6  7
+  io::ByteImage state(1, 8, 0);
+  for (int c : {1, 3, 4, 5}) state(0, c) = 2;
+  state(0, 7) = 1;
+  for (int c : {0, 4, 5, 6}) map.setKnown(0, c, 0.0, 0.1);
+  for (int c : {1, 2, 7}) map.setUnobserved(0, c, CellState::kShadow);
+  MapScore score;
+  score.add(map, height, state);
+  EXPECT_DOUBLE_EQ(*score.shadowRecall(), 0.25);  // only cell 1
+  EXPECT_DOUBLE_EQ(*score.shadowPrecision(), 0.5);
+  // Cell 3 has shadow next to it; cells 4 and 5 do not.
+  EXPECT_DOUBLE_EQ(*score.shadowRecallWithin1(), 0.5);
+  // Cell 2 is visible but next to occluded cells; cell 7 is outside view.
+  EXPECT_DOUBLE_EQ(*score.shadowPrecisionWithin1(), 1.0);
+  // Cells 4 and 5 are occluded and reported known; 4 has no visible cell
+  // next to it.
+  EXPECT_DOUBLE_EQ(*score.occludedKnown(), 0.5);
+  EXPECT_EQ(score.occludedKnownFar(), 1);
+}
+
 }  // namespace
 }  // namespace ambler::terrain
