@@ -263,11 +263,21 @@ void TerrainView::rebuild() {
   if (!camera_placed_) {
     if (display_) {
       const auto pose = display_->scan.sensor_to_world;
-      placeCamera(pose.translation(), pose.linear() * Eigen::Vector3d::UnitY());
+      const Eigen::Vector3d sensor = pose.translation();
+      // The ground under the sensor, wherever the terrain's datum puts it
+      // (a Mars DTM's heights are thousands of metres below zero).
+      const auto cell = display_->ground_grid.cellAt(sensor.x(), sensor.y());
+      const float ground = cell ? display_->ground(cell->row, cell->col) : NAN;
+      placeCamera(sensor, pose.linear() * Eigen::Vector3d::UnitY(),
+                  std::isfinite(ground) ? double(ground) : sensor.z() - 5.0);
     } else if (rover_) {
-      const auto& b = rover_->stance.body;
-      placeCamera(b.toWorld(Eigen::Vector3d(0, 0, 0)),
-                  b.toWorld(Eigen::Vector3d(0, 1, 0)) - b.toWorld(Eigen::Vector3d(0, 0, 0)));
+      const auto& stance = rover_->stance;
+      double ground = 0.0;
+      for (const auto& f : stance.feet) ground += f.z() / double(stance.feet.size());
+      placeCamera(stance.body.toWorld(Eigen::Vector3d(0, 0, 0)),
+                  stance.body.toWorld(Eigen::Vector3d(0, 1, 0)) -
+                      stance.body.toWorld(Eigen::Vector3d(0, 0, 0)),
+                  ground);
     }
   }
   view_->renderer()->ResetCameraClippingRange();
@@ -315,12 +325,15 @@ void TerrainView::addScanPoints() {
   addToWithStandIn(kGround, cloud, stand_in);
 }
 
-// Behind and above the sensor (or body), looking along `ahead`, far enough
-// back that the rover's feet and the terrain 30 m ahead are both in view.
-void TerrainView::placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead) {
+// Behind and above the sensor (or body), looking along `ahead` at the
+// ground (height `ground_z`) 10 m ahead, far enough back that the rover's
+// feet and the terrain 30 m ahead are both in view.
+void TerrainView::placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead,
+                              double ground_z) {
   const Eigen::Vector3d forward = Eigen::Vector3d(ahead.x(), ahead.y(), 0).normalized();
   const Eigen::Vector3d eye = sensor - 18.0 * forward + Eigen::Vector3d(0, 0, 7.0);
-  const Eigen::Vector3d target = sensor + 10.0 * forward - Eigen::Vector3d(0, 0, sensor.z());
+  Eigen::Vector3d target = sensor + 10.0 * forward;
+  target.z() = ground_z;
   auto* camera = view_->renderer()->GetActiveCamera();
   camera->SetPosition(eye.x(), eye.y(), eye.z());
   camera->SetFocalPoint(target.x(), target.y(), target.z());

@@ -76,7 +76,7 @@ class TerrainView : public QWidget {
   void addProposal();
   void addMeshOverlay();
   void addRegisteredScans();
-  void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead);
+  void placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector3d& ahead, double ground_z);
 
   rendering::VtkView* view_;
   QCheckBox* show_points_;

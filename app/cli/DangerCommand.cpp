@@ -102,7 +102,9 @@ sim::RenderedImage shadedCourse(const sim::CourseScene& scene, const vision::Cam
   shot.rows = camera.rows, shot.alpha_deg = camera.alpha_deg, shot.beta_deg = camera.beta_deg;
   shot.height_m = camera.height_m, shot.ground_xy = xy, shot.heading = heading;
   shot.texture_seed = texture_seed;
-  return sim::renderCamera(scene.terrain(), scene.caster(), shot, 0.5 * camera.wheel_diameter_m);
+  // A course scene: its terrain is procedural.
+  return sim::renderCamera(dynamic_cast<const sim::ProceduralTerrain&>(scene.terrain()),
+                           scene.caster(), shot, 0.5 * camera.wheel_diameter_m);
 }
 
 struct EvalDangerArgs {

@@ -83,7 +83,7 @@ void runFootfall(const FootfallArgs& a) {
     const auto leg = legFrom(a, map, region, options);
     const auto costs = footfall::buildCostMaps(map, region, leg, options);
     for (const auto* m : {&costs.roughness, &costs.slope, &costs.body_advance, &costs.visibility})
-      terrain::writeLayer(m->score, fs::path(a.out) / (m->name + ".tif"));
+      terrain::writeLayer(m->score, m->grid, fs::path(a.out) / (m->name + ".tif"), m->unit);
     score = costs.composite;
     result["leg"] = {{"shaft", {leg.shaft.x(), leg.shaft.y()}},
                      {"heading_deg", a.heading_deg},
@@ -94,7 +94,7 @@ void runFootfall(const FootfallArgs& a) {
                                         options.foot);
   }
   const double eval_ms = millisecondsSince(eval_start);
-  terrain::writeLayer(score.score, fs::path(a.out) / "score.tif");
+  terrain::writeLayer(score.score, score.grid, fs::path(a.out) / "score.tif", score.unit);
   nlohmann::json header = io::gridJson(score.grid);
   header["criterion"] = a.criterion;
   header["unit"] = score.unit;

@@ -39,7 +39,7 @@ std::optional<widgets::RoverDisplay> drawn(const std::optional<gait::Stance>& st
 }  // namespace
 
 GroundStation::GroundStation(StationOptions options, QObject* parent)
-    : QObject(parent), options_(std::move(options)), simulator_(options_.scanner) {
+    : QObject(parent), options_(std::move(options)), simulator_(options_.scanner, options_.dtm) {
   choice_.seed = options_.seed;
   wireWindow();
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
@@ -157,11 +157,11 @@ Refusal GroundStation::connectTo(const widgets::ConnectChoice& choice) {
 
 Refusal GroundStation::openSession() {
   try {
-    RoverConnection rover =
-        choice_.source == widgets::ConnectChoice::Source::kDds
-            ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
-                            choice_.key_file.toStdString())
-            : simulatorConnection(options_.simulator, choice_.seed, options_.operator_id);
+    RoverConnection rover = choice_.source == widgets::ConnectChoice::Source::kDds
+                                ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
+                                                choice_.key_file.toStdString())
+                                : simulatorConnection(options_.simulator, choice_.seed,
+                                                      options_.operator_id, options_.dtm);
     session_ = std::make_unique<WalkSession>(options_.ground, std::move(rover),
                                              newLogPath().toStdString());
   } catch (const std::exception& e) {

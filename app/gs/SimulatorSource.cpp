@@ -7,8 +7,9 @@
 
 namespace ambler::gs {
 
-SimulatorSource::SimulatorSource(sim::ScannerModel model, QObject* parent)
-    : QObject(parent), model_(std::move(model)) {
+SimulatorSource::SimulatorSource(sim::ScannerModel model, std::optional<sim::DtmSource> dtm,
+                                 QObject* parent)
+    : QObject(parent), model_(std::move(model)), dtm_(std::move(dtm)) {
   connect(&watcher_, &QFutureWatcher<Result>::finished, this, [this] {
     const Result result = watcher_.result();
     if (result.display)
@@ -20,13 +21,17 @@ SimulatorSource::SimulatorSource(sim::ScannerModel model, QObject* parent)
 
 void SimulatorSource::requestScan(quint64 seed) {
   if (watcher_.isRunning()) return;  // one scan at a time, like the sensor
-  watcher_.setFuture(QtConcurrent::run(&SimulatorSource::simulate, model_, seed));
+  watcher_.setFuture(QtConcurrent::run(&SimulatorSource::simulate, model_, dtm_, seed));
 }
 
-SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model, quint64 seed) {
+SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model,
+                                                  const std::optional<sim::DtmSource>& dtm,
+                                                  quint64 seed) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    const sim::CourseScene scene(seed, model);
+    const sim::CourseScene scene =
+        dtm ? sim::CourseScene(std::make_unique<sim::HeightfieldTerrain>(sim::loadDtm(*dtm)), model)
+            : sim::CourseScene(seed, model);
     widgets::ScanDisplay display;
     display.scan = scene.scan(seed);
     // The ground around the rover and the scanned area, at 10 cm.

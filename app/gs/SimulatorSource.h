@@ -7,6 +7,8 @@
 #include "sim/ScannerSim.h"
 #include "widgets/ScanDisplay.h"
 
+#include "sim/HeightfieldTerrain.h"
+
 namespace ambler::gs {
 
 // The built-in simulator as a source of scans for the GUI: simulates on a
@@ -16,7 +18,9 @@ class SimulatorSource : public QObject {
   Q_OBJECT
 
  public:
-  explicit SimulatorSource(sim::ScannerModel model, QObject* parent = nullptr);
+  // On `dtm` when given, else on the course of the requested seed.
+  explicit SimulatorSource(sim::ScannerModel model, std::optional<sim::DtmSource> dtm = {},
+                           QObject* parent = nullptr);
 
   void requestScan(quint64 seed);
 
@@ -29,9 +33,11 @@ class SimulatorSource : public QObject {
     std::optional<widgets::ScanDisplay> display;
     QString error;
   };
-  static Result simulate(const sim::ScannerModel& model, quint64 seed);
+  static Result simulate(const sim::ScannerModel& model, const std::optional<sim::DtmSource>& dtm,
+                         quint64 seed);
 
   sim::ScannerModel model_;
+  std::optional<sim::DtmSource> dtm_;
   QFutureWatcher<Result> watcher_;
 };
 

@@ -28,15 +28,19 @@ constexpr double kTelemetryPeriodS = 0.25;
 }  // namespace
 
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id) {
+                                    const QString& operator_id,
+                                    const std::optional<sim::DtmSource>& dtm) {
   RoverConnection c;
   c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;
   options.course.seed = seed;
+  options.dtm = dtm;
   options.operators = {c.key};
   c.open = [config, options] { return std::make_unique<rover::InProcessLink>(config, options); };
-  c.description = "built-in simulator on course " + std::to_string(seed);
-  c.mission = "ambler-gs walk on course " + std::to_string(seed);
+  const std::string where =
+      dtm ? "terrain model " + dtm->path.filename().string() : "course " + std::to_string(seed);
+  c.description = "built-in simulator on " + where;
+  c.mission = "ambler-gs walk on " + where;
   return c;
 }
 

@@ -28,10 +28,12 @@ struct RoverConnection {
   std::string mission;
 };
 
-// The built-in simulator on course `seed`, commanded by `operator_id` with
-// a key made for this session.
+// The built-in simulator on course `seed` (or on `dtm`, the seed then
+// drawing only the noise), commanded by `operator_id` with a key made for
+// this session.
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id);
+                                    const QString& operator_id,
+                                    const std::optional<sim::DtmSource>& dtm = {});
 
 // What the operator asked for that may be refused.
 enum class OperatorAction { kConnect, kApprove, kReject, kEditFoothold, kAutoApprove, kGrasp };

@@ -173,8 +173,13 @@ int main(int argc, char** argv) {
       "tabs gone through, until N steps are walked; print resident memory and stalls as JSON; "
       "quit.",
       "N");
-  parser.addOptions({seed_option, screenshot_option, walk_option, replay_option, log_dir_option,
-                     startup_option, responsiveness_option, soak_option});
+  const QCommandLineOption dtm_option(
+      "dtm",
+      "Simulate on a real terrain model (any DTM GDAL reads: GeoTIFF, PDS3/PDS4, ISIS3; projected "
+      "CRS): a 60 m square around its centre at 10 cm.",
+      "FILE");
+  parser.addOptions({dtm_option, seed_option, screenshot_option, walk_option, replay_option,
+                     log_dir_option, startup_option, responsiveness_option, soak_option});
   parser.process(app);
   bool seed_ok = false;
   const quint64 seed = parser.value(seed_option).toULongLong(&seed_ok);
@@ -192,6 +197,9 @@ int main(int argc, char** argv) {
   options.seed = seed;
   options.operator_id = qEnvironmentVariable("USER", "operator");
   options.log_dir = parser.value(log_dir_option);
+  if (parser.isSet(dtm_option))
+    options.dtm = ambler::sim::DtmSource{parser.value(dtm_option).toStdString(),
+                                         {.width = 60.0, .height = 60.0, .resolution = 0.1}};
   try {
     options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
     options.ground = ambler::gait::readInstalledGaitContext();

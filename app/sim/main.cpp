@@ -27,6 +27,10 @@ struct Args {
   int heartbeat_ms = 1000;
   double link_timeout_s = 3.0;
   double duration_s = 0.0;
+  std::string dtm;
+  std::vector<double> dtm_centre;  // empty: the raster's centre
+  double dtm_size = 60.0;
+  double dtm_resolution = 0.1;
 };
 
 void run(const Args& a) {
@@ -36,6 +40,13 @@ void run(const Args& a) {
   options.rover_id = a.rover_id;
   options.course.seed = a.seed;
   options.link_timeout_s = a.link_timeout_s;
+  if (!a.dtm.empty()) {
+    sim::DtmSource dtm{a.dtm,
+                       {.width = a.dtm_size, .height = a.dtm_size, .resolution = a.dtm_resolution}};
+    if (a.dtm_centre.size() == 2)
+      dtm.window.centre = Eigen::Vector2d(a.dtm_centre[0], a.dtm_centre[1]);
+    options.dtm = dtm;
+  }
   if (!a.keys.empty()) options.operators = link::readOperatorKeys(a.keys);
   rover::SimulatedRover rover(config, options);
   link::dds::RoverEndpoint endpoint(a.domain, a.rover_id);
@@ -64,6 +75,7 @@ void run(const Args& a) {
                               {"domain", a.domain},
                               {"rover_id", a.rover_id},
                               {"seed", a.seed},
+                              {"terrain", a.dtm.empty() ? "course" : a.dtm},
                               {"link_timeout_s", a.link_timeout_s},
                               {"operators", options.operators.size()}}
             << std::endl;
@@ -87,6 +99,21 @@ int main(int argc, char** argv) {
   app.add_option("--rover-id", a.rover_id, "this rover's id (the topics' key)")
       ->capture_default_str();
   app.add_option("--seed", a.seed, "obstacle course and execution noise seed")
+      ->capture_default_str();
+  app.add_option("--dtm", a.dtm,
+                 "walk on a real terrain model instead of the course: any DTM GDAL reads "
+                 "(GeoTIFF, PDS3/PDS4, ISIS3), in a projected CRS")
+      ->check(CLI::ExistingFile);
+  app.add_option("--dtm-centre", a.dtm_centre,
+                 "EASTING,NORTHING of the rover's start in the DTM's CRS [m] (default: the "
+                 "raster's centre)")
+      ->delimiter(',')
+      ->expected(2);
+  app.add_option("--dtm-size", a.dtm_size, "side of the square window loaded [m]")
+      ->check(CLI::Range(5.0, 2000.0))
+      ->capture_default_str();
+  app.add_option("--dtm-resolution", a.dtm_resolution, "cell size it is resampled to [m]")
+      ->check(CLI::Range(0.01, 10.0))
       ->capture_default_str();
   app.add_option("--keys", a.keys,
                  "operators' keys, {\"operators\": [{\"operator\", \"key_hex\"}]}; without it "

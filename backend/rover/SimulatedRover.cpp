@@ -15,6 +15,15 @@ namespace {
 // The Perceptron delivers 2 frames a second (cmu-1990).
 constexpr double kScanFrameS = 0.5;
 
+sim::RoverWorld makeWorld(const SimulatedRoverConfig& config, const SimulatedRoverOptions& o) {
+  if (o.dtm)
+    return sim::RoverWorld(std::make_unique<sim::HeightfieldTerrain>(sim::loadDtm(*o.dtm)),
+                           o.course.seed, config.model, config.gait, config.noise, config.scanner,
+                           o.scanned_area);
+  return sim::RoverWorld(o.course, config.model, config.gait, config.noise, config.scanner,
+                         o.scanned_area);
+}
+
 }  // namespace
 
 SimulatedRoverConfig readSimulatedRoverConfig(const std::filesystem::path& rover_json,
@@ -32,8 +41,7 @@ SimulatedRoverConfig readInstalledSimulatedRoverConfig() {
 SimulatedRover::SimulatedRover(const SimulatedRoverConfig& config, SimulatedRoverOptions options)
     : config_(config),
       options_(std::move(options)),
-      world_(options_.course, config.model, config.gait, config.noise, config.scanner,
-             options_.scanned_area),
+      world_(makeWorld(config, options_)),
       odometry_(config.model, world_.rover().truth()),
       verifier_(options_.rover_id, options_.operators) {}
 
@@ -117,6 +125,7 @@ std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
   if (const auto* m = std::get_if<link::AcquireScan>(&body)) {
     busy_s_ += kScanFrameS;
     if (m->sensor == link::ScanSensor::kLightStriper) {
+      if (!world_.hasStriper()) return "no light striper on a terrain model";
       out.push_back(message(now_s, world_.striperScan(++scans_)));
     } else {
       sensor::RangeImage image = world_.scan(++scans_);

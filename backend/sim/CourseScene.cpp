@@ -8,10 +8,15 @@ CourseScene::CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d
 
 CourseScene::CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy,
                          double heading)
+    : CourseScene(std::make_unique<ProceduralTerrain>(std::move(terrain)), std::move(model),
+                  rover_xy, heading) {}
+
+CourseScene::CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel model,
+                         Eigen::Vector2d rover_xy, double heading)
     : terrain_(std::move(terrain)),
-      caster_(terrain_),
+      caster_(*terrain_),
       model_(std::move(model)),
-      rover_(rover_xy.x(), rover_xy.y(), terrain_.height(rover_xy.x(), rover_xy.y())),
+      rover_(rover_xy.x(), rover_xy.y(), terrain_->height(rover_xy.x(), rover_xy.y())),
       pose_(model_.mountPose(rover_, heading)) {}
 
 sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {

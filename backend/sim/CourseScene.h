@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "sim/ObstacleCourse.h"
 #include "sim/RayCaster.h"
@@ -18,10 +19,13 @@ class CourseScene {
   // Any procedural terrain in place of the course.
   CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
               double heading = 0.0);
+  // Any terrain at all (a DTM's, say).
+  CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel model,
+              Eigen::Vector2d rover_xy = {0.0, 0.0}, double heading = 0.0);
   CourseScene(const CourseScene&) = delete;
   CourseScene& operator=(const CourseScene&) = delete;
 
-  const ProceduralTerrain& terrain() const { return terrain_; }
+  const Terrain& terrain() const { return *terrain_; }
   const RayCaster& caster() const { return caster_; }
   const ScannerModel& model() const { return model_; }
   // The ground point under the rover and the scanner's pose in the world.
@@ -34,7 +38,7 @@ class CourseScene {
   Box2 footprint() const;
 
  private:
-  ProceduralTerrain terrain_;
+  std::unique_ptr<const Terrain> terrain_;
   RayCaster caster_;
   ScannerModel model_;
   Eigen::Vector3d rover_;

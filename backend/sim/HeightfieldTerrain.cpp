@@ -61,4 +61,9 @@ HeightfieldTerrain loadHeightfield(const std::filesystem::path& tiff_path) {
   return HeightfieldTerrain(std::move(heights), grid);
 }
 
+HeightfieldTerrain loadDtm(const DtmSource& source) {
+  auto dtm = io::readDtm(source.path, source.window);
+  return HeightfieldTerrain(std::move(dtm.heights), dtm.grid);
+}
+
 }  // namespace ambler::sim

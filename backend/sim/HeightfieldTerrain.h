@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "io/Dtm.h"
 #include "io/Image.h"
 #include "sim/Terrain.h"
 
@@ -29,5 +30,14 @@ class HeightfieldTerrain : public Terrain {
 // basename: {"origin_x", "origin_y", "resolution"} (docs/formats.md).
 // Throws io::FormatError.
 HeightfieldTerrain loadHeightfield(const std::filesystem::path& tiff_path);
+
+// A window of a real terrain model (io::readDtm: GeoTIFF, PDS3/PDS4,
+// ISIS3, ...) in a frame with its origin at the window's centre, x east,
+// y north. Throws io::FormatError.
+struct DtmSource {
+  std::filesystem::path path;
+  io::DtmWindow window;
+};
+HeightfieldTerrain loadDtm(const DtmSource& source);
 
 }  // namespace ambler::sim

@@ -27,14 +27,21 @@ ExecutionNoise seeded(ExecutionNoise n, std::uint64_t seed) {
 RoverWorld::RoverWorld(const CourseOptions& course, const gait::RoverModel& model,
                        const gait::GaitOptions& gait, ExecutionNoise noise, ScannerModel scanner,
                        const Box2& scanned_area)
-    : seed_(course.seed),
+    : RoverWorld(std::make_unique<ProceduralTerrain>(makeObstacleCourse(course)), course.seed,
+                 model, gait, noise, std::move(scanner), scanned_area) {}
+
+RoverWorld::RoverWorld(std::unique_ptr<const Terrain> terrain, std::uint64_t seed,
+                       const gait::RoverModel& model, const gait::GaitOptions& gait,
+                       ExecutionNoise noise, ScannerModel scanner, const Box2& scanned_area)
+    : seed_(seed),
       model_(model),
       scanner_(std::move(scanner)),
-      terrain_(makeObstacleCourse(course)),
-      seen_(sampledCourse(terrain_, scanned_area)),
+      terrain_(std::move(terrain)),
+      course_(dynamic_cast<const ProceduralTerrain*>(terrain_.get())),
+      seen_(sampledCourse(*terrain_, scanned_area)),
       caster_(seen_, {.cell_size = 0.25, .step = 0.1, .tolerance = 1e-3}),
-      rover_(terrain_, model, seeded(noise, course.seed),
-             settleOnTerrain(gait::nominalStance({}, model, gait), terrain_, model)) {}
+      rover_(*terrain_, model, seeded(noise, seed),
+             settleOnTerrain(gait::nominalStance({}, model, gait), *terrain_, model)) {}
 
 sensor::RangeImage RoverWorld::scan(std::uint64_t index) const {
   return simulateScan(caster_, scanner_, mountPose(rover_.truth().body), seed_ * 1000 + index);
@@ -43,11 +50,11 @@ sensor::RangeImage RoverWorld::scan(std::uint64_t index) const {
 sensor::StriperImage RoverWorld::striperScan(std::uint64_t index) const {
   if (!striper_)
     striper_ = std::make_unique<StriperRenderer>(
-        terrain_, RayCasterOptions{.cell_size = 0.25, .step = 0.01, .tolerance = 1e-4});
+        *course_, RayCasterOptions{.cell_size = 0.25, .step = 0.01, .tolerance = 1e-4});
   const gait::BodyPose& b = rover_.truth().body;
   const auto at = [&](double right, double forward, double up) {
     const Eigen::Vector2d xy = b.toWorld(Eigen::Vector2d(right, forward));
-    return Eigen::Vector3d(xy.x(), xy.y(), terrain_.height(xy.x(), xy.y()) + up);
+    return Eigen::Vector3d(xy.x(), xy.y(), terrain_->height(xy.x(), xy.y()) + up);
   };
   // Body frame: x right, y forward. The camera looks down from 1.1 m at the
   // ground 2.6 m ahead of the body's centre; the projector sits beside it.

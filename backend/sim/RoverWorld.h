@@ -1,7 +1,8 @@
 #pragma once
 
-// The simulated Ambler in its world: the obstacle course of one seed, what
-// its scanner sees of it, and the rover executing moves on it. The
+// The simulated Ambler in its world: the obstacle course of one seed or a
+// real terrain model, what its scanner sees of it, and the rover executing
+// moves on it. The
 // autonomous walk and the simulated rover behind a link share it.
 
 #include <cstdint>
@@ -27,12 +28,20 @@ class RoverWorld {
   RoverWorld(const CourseOptions& course, const gait::RoverModel& model,
              const gait::GaitOptions& gait, ExecutionNoise noise, ScannerModel scanner,
              const Box2& scanned_area);
+  // Any terrain (a DTM's, say), the rover at its origin facing +y; `seed`
+  // draws the execution and scan noise.
+  RoverWorld(std::unique_ptr<const Terrain> terrain, std::uint64_t seed,
+             const gait::RoverModel& model, const gait::GaitOptions& gait, ExecutionNoise noise,
+             ScannerModel scanner, const Box2& scanned_area);
   RoverWorld(const RoverWorld&) = delete;
   RoverWorld& operator=(const RoverWorld&) = delete;
 
   RoverSim& rover() { return rover_; }
   const RoverSim& rover() const { return rover_; }
-  const Terrain& terrain() const { return terrain_; }
+  const Terrain& terrain() const { return *terrain_; }
+  // The light striper renders procedural courses only (rocks apart from
+  // the ground).
+  bool hasStriper() const { return course_ != nullptr; }
   const ScannerModel& scanner() const { return scanner_; }
 
   // A range image from where the rover really is, tagged with that pose;
@@ -41,7 +50,7 @@ class RoverWorld {
   // A light-striper image of the ground just ahead of the body, from a
   // striper mounted at the body's front (assumed mount: the cmu-1990
   // sampling work used a separate testbed). The first call builds a fine
-  // ray caster over the exact course.
+  // ray caster over the exact course. Only when hasStriper().
   sensor::StriperImage striperScan(std::uint64_t index) const;
   // The scanner's pose for a body pose (the mount is above the ground
   // under the body).
@@ -51,8 +60,9 @@ class RoverWorld {
   std::uint64_t seed_;
   gait::RoverModel model_;
   ScannerModel scanner_;
-  ProceduralTerrain terrain_;
-  HeightfieldTerrain seen_;  // what the scanner's rays meet
+  std::unique_ptr<const Terrain> terrain_;
+  const ProceduralTerrain* course_ = nullptr;  // terrain_ when it is a course
+  HeightfieldTerrain seen_;                    // what the scanner's rays meet
   RayCaster caster_;
   mutable std::unique_ptr<StriperRenderer> striper_;  // built when first needed
   RoverSim rover_;

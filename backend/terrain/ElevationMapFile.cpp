@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "io/Dtm.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
 
@@ -17,22 +18,23 @@ void requireMapSize(const io::FloatImage& image, const GridSpec& g, const fs::pa
 
 }  // namespace
 
-void writeLayer(const Layer& layer, const fs::path& file) {
+void writeLayer(const Layer& layer, const GridSpec& grid, const fs::path& file,
+                const std::string& unit) {
   io::FloatImage image(int(layer.rows()), int(layer.cols()));
   std::copy(layer.data(), layer.data() + layer.size(), image.pixels.begin());
-  io::writeTiff(file, image);
+  io::writeGeoTiff(file, image, grid, unit);
 }
 
 void writeElevationMap(const ElevationMap& map, const fs::path& dir) {
   fs::create_directories(dir);
   const auto& g = map.grid();
-  writeLayer(map.layer(layer::kElevation), dir / "elevation.tif");
-  writeLayer(map.layer(layer::kSigma), dir / "sigma.tif");
-  writeLayer(map.layer(layer::kCount), dir / "count.tif");
+  writeLayer(map.layer(layer::kElevation), g, dir / "elevation.tif", "m");
+  writeLayer(map.layer(layer::kSigma), g, dir / "sigma.tif", "m");
+  writeLayer(map.layer(layer::kCount), g, dir / "count.tif");
   io::ByteImage state(g.rows, g.cols);
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) state(r, c) = std::uint8_t(map.state(r, c));
-  io::writeTiff(dir / "state.tif", state);
+  io::writeGeoTiff(dir / "state.tif", state, g);
   auto header = io::gridJson(g);
   header["frame"] = map.frame();
   header["state_codes"] = {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}};

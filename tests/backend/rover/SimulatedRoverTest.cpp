@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "InstalledConfig.h"
+#include "TempDir.h"
+#include "io/Dtm.h"
 #include "link/Codec.h"
 #include "rover/InProcessLink.h"
+#include "sim/TerrainFamilies.h"
 
 namespace ambler::rover {
 namespace {
@@ -164,6 +167,39 @@ TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
   EXPECT_GT(image.returnCount(), image.rows() * image.cols() / 2);
   const auto& body = rover.world().rover().truth().body;
   EXPECT_NEAR(image.sensor_to_world.translation().x(), body.xy.x(), 1e-9);
+}
+
+// The simulator walks a real terrain model: a crater field written as a
+// GeoTIFF DTM at easting 5000, northing 2000 is the world the rover stands
+// in, centred on the window, and its scanner sees it. The striper, which
+// needs a procedural course, says so.
+TEST(SimulatedRover, WalksATerrainModelLoadedThroughGdal) {
+  TempDir dir;
+  const sim::ProceduralTerrain craters(sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, 5));
+  const GridSpec dtm_grid{4970.0, 1970.0, 0.1, 600, 600};
+  io::FloatImage z(600, 600);
+  for (int r = 0; r < 600; ++r)
+    for (int c = 0; c < 600; ++c) {
+      const auto p = dtm_grid.cellCenter(r, c);
+      z(r, c) = float(craters.height(p.x() - 5000.0, p.y() - 2000.0));
+    }
+  io::writeGeoTiff(dir / "dtm.tif", z, dtm_grid, "m");
+  auto o = options();
+  o.dtm = sim::DtmSource{dir / "dtm.tif", {.width = 60.0, .height = 60.0, .resolution = 0.1}};
+  SimulatedRover rover(simulator(), o);
+  const auto& world = rover.world().terrain();
+  for (const double x : {-4.95, 0.05, 7.25})
+    for (const double y : {-3.05, 2.15, 9.95})
+      EXPECT_NEAR(world.height(x, y), craters.height(x, y), 1e-5) << x << ", " << y;
+  link::CommandSigner signer(alice());
+  const auto out = rover.handle(command(link::AcquireScan{}, &signer), 1.0);
+  ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  const auto& image = std::get<sensor::RangeImage>(out[1].body);
+  EXPECT_GT(image.returnCount(), image.rows() * image.cols() / 2);
+  const auto striper =
+      rover.handle(command(link::AcquireScan{link::ScanSensor::kLightStriper}, &signer), 2.0);
+  EXPECT_FALSE(ackOf(striper).accepted);
+  EXPECT_NE(ackOf(striper).reason.find("terrain model"), std::string::npos);
 }
 
 // A real rover knows its pose only from its encoders: the simulated one
