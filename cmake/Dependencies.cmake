@@ -5,6 +5,8 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(TIFF REQUIRED)
 # Real terrain models (GeoTIFF, PDS3/PDS4, ISIS3) and GeoTIFF map layers.
 find_package(GDAL 3.6 CONFIG REQUIRED)
+# The evaluations' second ray caster (truth independent of the scanner's).
+find_package(embree 3 CONFIG REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Threads REQUIRED)

@@ -187,20 +187,22 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       }
     by_family[std::string(sim::familyName(family))] = {{"methods", methodsJson(scores)}};
   }
-  return {{"scenes", scenes},
-          {"seeds", seeds},
-          {"seed_set", a.seeds.empty() ? (a.tuning ? "tuning" : "evaluation") : "given"},
-          {"noise_k", a.noise_k},
-          {"poses", a.poses},
-          {"region", a.region},
-          {"resolution", a.resolution},
-          {"threads", a.threads},
-          {"shadow_tolerance", "within_1_cell: one cell, 8-neighbourhood"},
-          {"min_grazing_deg", a.edges.min_grazing_deg},
-          {"edge_noise_sigmas", a.edges.noise_sigmas},
-          {"methods", methodsJson(pooled)},
-          {"families", by_family},
-          {"elapsed_ms", millisecondsSince(start)}};
+  return {
+      {"scenes", scenes},
+      {"seeds", seeds},
+      {"seed_set", a.seeds.empty() ? (a.tuning ? "tuning" : "evaluation") : "given"},
+      {"noise_k", a.noise_k},
+      {"poses", a.poses},
+      {"region", a.region},
+      {"resolution", a.resolution},
+      {"threads", a.threads},
+      {"shadow_tolerance", "within_1_cell: one cell, 8-neighbourhood"},
+      {"truth", "Embree on the terrain triangulated at 2 cm; scans by the project's ray caster"},
+      {"min_grazing_deg", a.edges.min_grazing_deg},
+      {"edge_noise_sigmas", a.edges.noise_sigmas},
+      {"methods", methodsJson(pooled)},
+      {"families", by_family},
+      {"elapsed_ms", millisecondsSince(start)}};
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "sim/CourseScene.h"
 
+#include "sim/EmbreeCaster.h"
+
 namespace ambler::sim {
 
 CourseScene::CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d rover_xy,
@@ -24,7 +26,13 @@ sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {
 }
 
 VisibilityTruth CourseScene::truth(const GridSpec& grid) const {
-  return computeVisibility(caster_, model_, pose_, grid);
+  // Occluders lie between the sensor and the grid.
+  const Box2 g = grid.bounds();
+  const auto s = pose_.translation();
+  const Box2 area{std::min(g.x_min, s.x()) - 1, std::min(g.y_min, s.y()) - 1,
+                  std::max(g.x_max, s.x()) + 1, std::max(g.y_max, s.y()) + 1};
+  const EmbreeCaster independent(*terrain_, area);
+  return computeVisibility(independent, model_, pose_, grid);
 }
 
 Box2 CourseScene::footprint() const { return groundFootprint(model_, pose_, rover_.z()); }

@@ -33,6 +33,7 @@ class CourseScene {
   const Eigen::Isometry3d& sensorPose() const { return pose_; }
 
   sensor::RangeImage scan(std::uint64_t noise_seed) const;
+  // Truth from the EmbreeCaster at 2 cm, independent of the scans' caster.
   VisibilityTruth truth(const GridSpec& grid) const;
   // The scan's footprint on the horizontal plane through the rover's ground.
   Box2 footprint() const;

@@ -15,11 +15,24 @@ struct RayCasterOptions {
   double tolerance = 0.0;  // bisection stops at this bracket [m]; 0: machine precision
 };
 
+// Where a ray first meets the ground: the simulator's scanner and the
+// evaluations' truth each use one, and they are kept independent
+// (RayCaster and EmbreeCaster) so that a bug in one cannot hide in both.
+class FirstHit {
+ public:
+  virtual ~FirstHit() = default;
+  // Distance along the unit `direction` from `origin` to the first ground
+  // hit no farther than max_range, or nothing.
+  virtual std::optional<double> cast(const Eigen::Vector3d& origin,
+                                     const Eigen::Vector3d& direction, double max_range) const = 0;
+  virtual const Terrain& terrain() const = 0;
+};
+
 // Casts rays against a Terrain. Space above a per-bin upper bound of the
 // terrain is skipped; near the ground the ray marches in fixed steps and the
 // first sign change of (ray z - ground z) is refined by bisection, so hits
 // are exact to far below a millimetre on any continuous or stepped surface.
-class RayCaster {
+class RayCaster final : public FirstHit {
  public:
   explicit RayCaster(const Terrain& terrain, RayCasterOptions options = {});
 
@@ -27,9 +40,9 @@ class RayCaster {
   // hit no farther than max_range, or nothing (sky, off the terrain, or an
   // origin below the ground).
   std::optional<double> cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-                             double max_range) const;
+                             double max_range) const override;
 
-  const Terrain& terrain() const { return terrain_; }
+  const Terrain& terrain() const override { return terrain_; }
 
  private:
   double groundGap(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t) const;

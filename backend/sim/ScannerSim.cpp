@@ -85,7 +85,7 @@ Box2 groundFootprint(const ScannerModel& model, const Eigen::Isometry3d& sensor_
   return box;
 }
 
-VisibilityTruth computeVisibility(const RayCaster& caster, const ScannerModel& model,
+VisibilityTruth computeVisibility(const FirstHit& caster, const ScannerModel& model,
                                   const Eigen::Isometry3d& sensor_to_world, const GridSpec& grid) {
   VisibilityTruth truth{grid, io::FloatImage(grid.rows, grid.cols),
                         io::ByteImage(grid.rows, grid.cols)};

@@ -52,7 +52,9 @@ struct VisibilityTruth {
 Box2 groundFootprint(const ScannerModel& model, const Eigen::Isometry3d& sensor_to_world,
                      double ground_z);
 
-VisibilityTruth computeVisibility(const RayCaster& caster, const ScannerModel& model,
+// Truth by `caster`: for evaluations an EmbreeCaster, independent of the
+// RayCaster that simulated the scan.
+VisibilityTruth computeVisibility(const FirstHit& caster, const ScannerModel& model,
                                   const Eigen::Isometry3d& sensor_to_world, const GridSpec& grid);
 
 }  // namespace ambler::sim
