@@ -29,13 +29,17 @@ struct Headline {
 // The papers report few numbers; these are all of those that measure the
 // same thing as an evaluation here.
 const Headline kHeadlines[] = {
-    {"elevation RMSE, locus method (all noise levels)", "/elevation/methods/locus/rmse_m", "m",
-     nullptr},
+    {"elevation RMSE, locus method (six terrain families, all noise levels)",
+     "/elevation/methods/locus/rmse_m", "m", nullptr},
     {"elevation RMSE, Cartesian binning", "/elevation/methods/binning/rmse_m", "m", nullptr},
     {"elevation coverage of visible cells, locus", "/elevation/methods/locus/coverage", "",
      nullptr},
-    {"range-shadow recall, locus", "/elevation/methods/locus/shadow_recall", "", nullptr},
-    {"range-shadow precision, locus", "/elevation/methods/locus/shadow_precision", "", nullptr},
+    {"range-shadow recall within one cell, locus",
+     "/elevation/methods/locus/shadow_recall_within_1_cell", "", nullptr},
+    {"range-shadow precision within one cell, locus",
+     "/elevation/methods/locus/shadow_precision_within_1_cell", "", nullptr},
+    {"occluded cells reported known, locus", "/elevation/methods/locus/occluded_known", "",
+     nullptr},
     {"sigma calibration (std of error / sigma), locus",
      "/elevation/methods/locus/sigma_calibration", "", nullptr},
     {"locus map 20 x 20 m at 5 cm, one core", "/elevation/methods/locus/ms_per_map", "ms", nullptr},

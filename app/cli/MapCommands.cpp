@@ -67,6 +67,10 @@ void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges) {
                  "extra jump allowed for range noise [std. dev.]")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--edge-weak-noise", edges.weak_noise_sigmas,
+                 "a smaller allowance [std. dev.] for jumps continued by a neighbouring jump")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
 }
 
 void addMap(CLI::App& app) {

@@ -1,22 +1,14 @@
 #include "sim/ObstacleCourse.h"
 
 #include <cmath>
-#include <random>
+
+#include "sim/RandomDraw.h"
 
 namespace ambler::sim {
 
 namespace {
 
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  double operator()(double lo, double hi) { return std::uniform_real_distribution<>(lo, hi)(rng_); }
-
- private:
-  std::mt19937_64 rng_;
-};
-
-std::vector<Wave> rollingGround(Draw& draw, int count, double amp_lo, double amp_hi,
+std::vector<Wave> rollingGround(RandomDraw& draw, int count, double amp_lo, double amp_hi,
                                 double wavelength_lo, double wavelength_hi) {
   std::vector<Wave> waves;
   for (int i = 0; i < count; ++i) {
@@ -38,7 +30,7 @@ bool overlapsAny(const Box2& b, const std::vector<Box2>& taken) {
 // Places up to `count` rocks in `area` without overlapping `taken`; sizes in
 // metres, burial as the fraction of a3 by which the centre sits below the
 // ground.
-void scatterRocks(Draw& draw, const ProceduralTerrain& ground, const Box2& area, int count,
+void scatterRocks(RandomDraw& draw, const ProceduralTerrain& ground, const Box2& area, int count,
                   double a_lo, double a_hi, double a3_lo, double a3_hi, double burial_lo,
                   double burial_hi, std::vector<Box2>& taken, std::vector<Feature>& features) {
   for (int placed = 0, attempts = 0; placed < count && attempts < 50 * count; ++attempts) {
@@ -63,7 +55,7 @@ void scatterRocks(Draw& draw, const ProceduralTerrain& ground, const Box2& area,
 }  // namespace
 
 TerrainDescription makeObstacleCourse(const CourseOptions& options) {
-  Draw draw(options.seed);
+  RandomDraw draw(options.seed);
   TerrainDescription d;
   d.extent = options.extent;
   d.waves = rollingGround(draw, 4, 0.03, 0.12, 4.0, 14.0);
@@ -101,7 +93,7 @@ CourseOptions longTraverse(std::uint64_t seed) {
 }
 
 TerrainDescription makeWorkArea(const WorkAreaOptions& options) {
-  Draw draw(options.seed);
+  RandomDraw draw(options.seed);
   TerrainDescription d;
   const double h = options.size / 2;
   d.extent = {-h, -h, h, h};

@@ -2,25 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include "sim/ObstacleCourse.h"
+#include "sim/RandomDraw.h"
 
 namespace ambler::sim {
 
 namespace {
 
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  double operator()(double lo, double hi) { return std::uniform_real_distribution<>(lo, hi)(rng_); }
-  long poisson(double mean) { return std::poisson_distribution<long>(mean)(rng_); }
-
- private:
-  std::mt19937_64 rng_;
-};
-
-std::vector<Wave> gentleWaves(Draw& draw, int count, double amp_hi) {
+std::vector<Wave> gentleWaves(RandomDraw& draw, int count, double amp_hi) {
   std::vector<Wave> waves;
   for (int i = 0; i < count; ++i) {
     const double k = 2 * M_PI / draw(5.0, 15.0);
@@ -102,7 +92,7 @@ double golombekRappDensity(double abundance, double d_lo, double d_hi) {
 }
 
 TerrainDescription makeRockField(const RockFieldOptions& o) {
-  Draw draw(o.seed);
+  RandomDraw draw(o.seed);
   TerrainDescription d;
   d.extent = o.extent;
   d.waves = gentleWaves(draw, 3, 0.05);
@@ -132,7 +122,7 @@ TerrainDescription makeRockField(const RockFieldOptions& o) {
 }
 
 TerrainDescription makeCraterField(const CraterFieldOptions& o) {
-  Draw draw(o.seed);
+  RandomDraw draw(o.seed);
   TerrainDescription d;
   d.extent = o.extent;
   d.waves = gentleWaves(draw, 3, 0.04);
@@ -158,7 +148,7 @@ double roughnessAt(const std::vector<Wave>& waves, double lag) {
 }
 
 TerrainDescription makeRoughGround(const RoughGroundOptions& o) {
-  Draw draw(o.seed);
+  RandomDraw draw(o.seed);
   TerrainDescription d;
   d.extent = o.extent;
   const double octaves = std::log2(o.wavelength_max / o.wavelength_min);
@@ -177,7 +167,7 @@ TerrainDescription makeRoughGround(const RoughGroundOptions& o) {
 }
 
 TerrainDescription makeNegativeObstacles(const NegativeObstacleOptions& o) {
-  Draw draw(o.seed);
+  RandomDraw draw(o.seed);
   TerrainDescription d;
   d.extent = o.extent;
   d.waves = gentleWaves(draw, 3, 0.04);
@@ -231,7 +221,7 @@ TerrainDescription makeSlope(const SlopeOptions& o) {
 TerrainDescription makeFamilyTerrain(TerrainFamily family, std::uint64_t seed) {
   // Parameters from their own stream, so that the terrain's draws do not
   // depend on how many parameters a family has.
-  Draw draw(seed * 7919 + std::uint64_t(family));
+  RandomDraw draw(seed * 7919 + std::uint64_t(family));
   switch (family) {
     case TerrainFamily::kCourse:
       return makeObstacleCourse({.seed = seed});

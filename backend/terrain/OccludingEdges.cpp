@@ -19,11 +19,16 @@ struct JumpTest {
   double noise_sigmas;
   double k;
 
-  bool operator()(double a, double b, double separation, double near_slope) const {
-    const double noise = noise_sigmas * k * std::sqrt(a * a * a * a + b * b * b * b);
+  double weak_sigmas;
+
+  // 2: a discontinuity; 1: one only within the weak noise allowance; 0: none.
+  std::uint8_t operator()(double a, double b, double separation, double near_slope) const {
+    const double sigma = k * std::sqrt(a * a * a * a + b * b * b * b);
     const double smooth =
         std::max(std::min(a, b) * separation * inv_tan_grazing, step_ratio * near_slope);
-    return std::abs(a - b) > smooth + noise;
+    const double jump = std::abs(a - b);
+    if (jump > smooth + noise_sigmas * sigma) return 2;
+    return jump > smooth + std::min(weak_sigmas, noise_sigmas) * sigma ? 1 : 0;
   }
 };
 
@@ -40,7 +45,7 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0), options.step_ratio,
-                       options.noise_sigmas, image.range_sigma_k};
+                       options.noise_sigmas, image.range_sigma_k, options.weak_noise_sigmas};
   // Angular separation of neighbours: a column step turns the ray by
   // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
   const double col_sep = std::abs(g.theta_step);
@@ -57,6 +62,8 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     for (int c = 0; c < cols_; ++c)
       if (image.hasReturn(r, c)) range[std::size_t(r) * cols_ + c] = image.at(r, c);
   auto at = [&](int r, int c) { return double(range[std::size_t(r) * cols_ + c]); };
+  // The level of each tested pair, by the pixel it starts from and kind.
+  std::vector<std::uint8_t> level(pixel_.size(), 0);
   auto test = [&](int r0, int c0, int r1, int c1, double separation) -> std::uint8_t {
     const double a = at(r0, c0), b = at(r1, c1);
     const double near = std::min(a, b);
@@ -68,29 +75,21 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     const int nr = a <= b ? r0 - dr : r1 + dr, nc = a <= b ? c0 - dc : c1 + dc;
     const bool valid = nr >= 0 && nr < rows_ && nc >= 0 && nc < cols_ && !std::isnan(at(nr, nc));
     const double near_slope = valid ? std::abs(at(nr, nc) - near) : 0.0;
-    if (!jumps(a, b, separation, near_slope)) return 0;
-    pixel_[std::size_t(r0) * cols_ + c0] = pixel_[std::size_t(r1) * cols_ + c1] = 1;
-    return 1;
+    return jumps(a, b, separation, near_slope);
   };
-  // Each neighbour pair is tested once and marks the quads it belongs to:
-  // a row pair the quads above and below it, a column pair those left and
-  // right of it, a diagonal its own quad.
-  auto quad = [&](int r, int c) -> std::uint8_t& {
-    return quad_[std::size_t(r) * (cols_ - 1) + c];
+  // Levels in bits: two per pair kind (right, down, diagonal, anti).
+  auto record = [&](int r, int c, int kind, std::uint8_t l) {
+    level[std::size_t(r) * cols_ + c] |= std::uint8_t(l << (2 * kind));
+  };
+  auto levelOf = [&](int r, int c, int kind) -> int {
+    if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return 0;
+    return (level[std::size_t(r) * cols_ + c] >> (2 * kind)) & 3;
   };
   auto testAll = [&](int r, int c, std::uint8_t candidates) {
-    if ((candidates & kRight) && test(r, c, r, c + 1, col_sep)) {
-      if (r > 0) quad(r - 1, c) = 1;
-      if (r + 1 < rows_) quad(r, c) = 1;
-    }
-    if ((candidates & kDown) && test(r, c, r + 1, c, row_sep[c])) {
-      if (c > 0) quad(r, c - 1) = 1;
-      if (c + 1 < cols_) quad(r, c) = 1;
-    }
-    // Both diagonals are tested: each marks its pixels.
-    const bool diagonal = (candidates & kDiagonal) && test(r, c, r + 1, c + 1, diagonal_sep[c]);
-    const bool anti = (candidates & kAnti) && test(r, c + 1, r + 1, c, diagonal_sep[c]);
-    if (diagonal || anti) quad(r, c) = 1;
+    if (candidates & kRight) record(r, c, 0, test(r, c, r, c + 1, col_sep));
+    if (candidates & kDown) record(r, c, 1, test(r, c, r + 1, c, row_sep[c]));
+    if (candidates & kDiagonal) record(r, c, 2, test(r, c, r + 1, c + 1, diagonal_sep[c]));
+    if (candidates & kAnti) record(r, c, 3, test(r, c + 1, r + 1, c, diagonal_sep[c]));
   };
   // Screening a row at a time in single precision, in loops the compiler
   // vectorises, finds the few pairs beyond the grazing bound (less 0.1 %,
@@ -122,6 +121,44 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     for (int c = 0; c < cols_; ++c)
       if (candidates[c]) testAll(r, c, candidates[c]);
   }
+  // A weak jump is kept when the edge continues: a jump of the same kind
+  // beside it along the edge's run (across rows for a row pair, along
+  // columns for a column pair, either way for diagonals).
+  auto continued = [&](int r, int c, int kind) {
+    for (int d = -1; d <= 1; ++d)
+      for (int e : {-1, 1}) {
+        const bool along_columns = kind == 1 || (kind >= 2 && d == 0);
+        const int rr = along_columns ? r + d : r + e, cc = along_columns ? c + e : c + d;
+        if (levelOf(rr, cc, kind) > 0) return true;
+      }
+    return false;
+  };
+  // Each edge pair marks the quads it belongs to: a row pair the quads
+  // above and below it, a column pair those left and right of it, a
+  // diagonal its own quad.
+  auto quad = [&](int r, int c) -> std::uint8_t& {
+    return quad_[std::size_t(r) * (cols_ - 1) + c];
+  };
+  for (int r = 0; r < rows_; ++r)
+    for (int c = 0; c < cols_; ++c) {
+      if (!level[std::size_t(r) * cols_ + c]) continue;
+      for (int kind = 0; kind < 4; ++kind) {
+        const int l = levelOf(r, c, kind);
+        if (l == 0 || (l == 1 && !continued(r, c, kind))) continue;
+        const int r1 = kind == 0 ? r : r + 1;
+        const int c0 = kind == 3 ? c + 1 : c, c1 = kind == 1 ? c : (kind == 3 ? c : c + 1);
+        pixel_[std::size_t(r) * cols_ + c0] = pixel_[std::size_t(r1) * cols_ + c1] = 1;
+        if (kind == 0) {
+          if (r > 0) quad(r - 1, c) = 1;
+          if (r + 1 < rows_) quad(r, c) = 1;
+        } else if (kind == 1) {
+          if (c > 0) quad(r, c - 1) = 1;
+          if (c + 1 < cols_) quad(r, c) = 1;
+        } else {
+          quad(r, c) = 1;
+        }
+      }
+    }
 }
 
 int OccludingEdges::edgePixelCount() const {

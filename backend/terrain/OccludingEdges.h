@@ -17,6 +17,11 @@ struct OccludingEdgeOptions {
   double min_grazing_deg = 10.0;  // jumps no steeper than this grazing angle are continuous
   double step_ratio = 3.0;        // and so are jumps below this many times the occluder's slope
   double noise_sigmas = 4.0;      // noise allowance, in std. dev. of the jump
+  // A jump beyond only this smaller allowance is an edge too when a jump of
+  // the same kind continues it in a neighbouring pixel (hysteresis, as in
+  // Canny's detector): an occluding edge runs along the image, noise does
+  // not. Equal to noise_sigmas (or more) turns it off.
+  double weak_noise_sigmas = 2.0;
 };
 
 // The discontinuities of one range image, indexed by the image's quads: quad
