@@ -44,6 +44,27 @@ TEST(OccludingEdges, ContinuousGroundHasNoEdgesAndAStepHas) {
   EXPECT_EQ(edges.edgePixelCount(), 2 * 64);
 }
 
+// A jump between the weak and the strong noise allowance is an edge with
+// hysteresis on when it runs along the image, never when it is alone.
+TEST(OccludingEdges, HysteresisKeepsWeakJumpsThatContinue) {
+  auto image = flatGroundImage(64, 64);
+  const double jump = 2.4;
+  const double a = image.range[std::size_t(20) * 64 + 32], b = a + jump;
+  // Noise so that the jump is 3 sigma of the pair's difference.
+  image.range_sigma_k = jump / (3 * std::sqrt(a * a * a * a + b * b * b * b));
+  for (int c = 24; c <= 40; ++c)
+    for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * 64 + c] += float(jump);
+  for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * 64 + 52] += float(jump);  // alone
+
+  EXPECT_EQ(OccludingEdges(image).edgePixelCount(), 0);  // default: 4 sigma
+  OccludingEdgeOptions hysteresis;
+  hysteresis.weak_noise_sigmas = 2.0;
+  const OccludingEdges edges(image, hysteresis);
+  for (int c = 26; c <= 38; ++c) EXPECT_TRUE(edges.pixelIsEdge(19, c)) << c;
+  EXPECT_FALSE(edges.pixelIsEdge(19, 52));
+  EXPECT_FALSE(edges.pixelIsEdge(10, 32));
+}
+
 TEST(Binning, AveragesThePointsInEachCell) {
   const auto image = flatGroundImage(64, 64);
   const auto map = buildBinnedMap(image, GridSpec::covering({-2, 6, 2, 12}, 0.5));
