@@ -6,6 +6,8 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
+#include "footfall/Criteria.h"
+#include "footfall/FootfallConfig.h"
 #include "sim/CourseScene.h"
 #include "sim/TerrainFamilies.h"
 #include "terrain/Binning.h"
@@ -38,10 +40,19 @@ struct EvalElevationArgs {
   bool json = false;
 };
 
+// Where the best foothold of a map lands: on cells that were seen, or
+// not (truly occluded or outside the view) under the foot.
+struct FootholdCount {
+  int chosen = 0;
+  int on_unseen = 0;
+};
+
 // Scores of one method, pooled over all scenes and per noise level.
 struct MethodResult {
   terrain::MapScore all;
   std::map<double, terrain::MapScore> by_noise;
+  FootholdCount footholds;
+  std::map<double, FootholdCount> footholds_by_noise;
   double total_ms = 0.0;
   int maps = 0;
 };
@@ -63,12 +74,19 @@ nlohmann::json scoreJson(const terrain::MapScore& s) {
           {"known_cells", s.knownCells()}};
 }
 
+nlohmann::json footholdJson(const FootholdCount& f) {
+  return {{"footholds", f.chosen}, {"footholds_on_unseen_cells", f.on_unseen}};
+}
+
 nlohmann::json methodJson(const MethodResult& m) {
   auto j = scoreJson(m.all);
+  j.update(footholdJson(m.footholds));
   j["ms_per_map"] = m.maps ? m.total_ms / m.maps : 0.0;
   j["by_noise"] = nlohmann::json::array();
   for (const auto& [k, score] : m.by_noise) {
     auto level = scoreJson(score);
+    if (const auto f = m.footholds_by_noise.find(k); f != m.footholds_by_noise.end())
+      level.update(footholdJson(f->second));
     level["noise_k"] = k;
     j["by_noise"].push_back(level);
   }
@@ -80,8 +98,47 @@ struct Scores {
   MethodResult locus, binning;
 };
 
+// Nine foothold regions (squares of 1.5 m, smaller on a small map) spread
+// over the map: at a quarter, half and three quarters of its width, a fifth,
+// 45 % and 70 % of its depth, as the gait planner asks for one per leg move.
+std::vector<Box2> footholdRegions(const Box2& map) {
+  std::vector<Box2> regions;
+  const double half = 0.5 * std::min(1.5, 0.2 * std::min(map.width(), map.height()));
+  for (const double fx : {0.25, 0.5, 0.75})
+    for (const double fy : {0.2, 0.45, 0.7}) {
+      const double x = map.x_min + fx * map.width(), y = map.y_min + fy * map.height();
+      regions.push_back({x - half, y - half, x + half, y + half});
+    }
+  return regions;
+}
+
+// The best foothold (krotkov1989's equilibrium criterion, the configured
+// foot) in each region, and whether the truth has a cell under the foot
+// that nobody saw.
+FootholdCount scoreFootholds(const terrain::ElevationMap& map, const sim::VisibilityTruth& truth,
+                             const std::vector<Box2>& regions, const footfall::FootOptions& foot) {
+  FootholdCount count;
+  const auto& g = truth.grid;
+  const double radius = 0.5 * foot.diameter_m;
+  for (const auto& region : regions) {
+    const auto best = footfall::bestFoothold(
+        footfall::evaluateFootfalls(map, region, footfall::Criterion::kEquilibrium, foot));
+    if (!best.found) continue;
+    ++count.chosen;
+    bool unseen = false;
+    for (int r = 0; r < g.rows && !unseen; ++r)
+      for (int c = 0; c < g.cols && !unseen; ++c) {
+        const auto p = g.cellCenter(r, c);
+        unseen = std::hypot(p.x() - best.x, p.y() - best.y) <= radius && truth.state(r, c) != 0;
+      }
+    count.on_unseen += unseen;
+  }
+  return count;
+}
+
 template <typename Build>
-void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& truth, Build&& build) {
+void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& truth, Build&& build,
+                 const std::vector<Box2>& regions, const footfall::FootOptions& foot) {
   const auto start = std::chrono::steady_clock::now();
   const auto map = build();
   result.total_ms += millisecondsSince(start);
@@ -89,13 +146,19 @@ void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& tru
   // Without noise sigma is only an interpolation bound: not a calibration.
   result.all.add(map, truth.height, truth.state, k > 0);
   result.by_noise[k].add(map, truth.height, truth.state, k > 0);
+  const auto f = scoreFootholds(map, truth, regions, foot);
+  for (auto* total : {&result.footholds, &result.footholds_by_noise[k]}) {
+    total->chosen += f.chosen;
+    total->on_unseen += f.on_unseen;
+  }
 }
 
 nlohmann::json methodsJson(const Scores& s) {
   return {{"locus", methodJson(s.locus)}, {"binning", methodJson(s.binning)}};
 }
 
-constexpr const char* kTableKeys[] = {"rmse_m",
+constexpr const char* kTableKeys[] = {"footholds_on_unseen_cells",
+                                      "rmse_m",
                                       "coverage",
                                       "shadow_recall_within_1_cell",
                                       "shadow_precision_within_1_cell",
@@ -160,6 +223,8 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
   options.threads = a.threads;
   options.edges = a.edges;
   const auto grid = GridSpec::covering(region, a.resolution);
+  const auto regions = footholdRegions(region);
+  const auto foot = footfall::readFootfallConfig(findResource("config/footfall.json")).foot;
   Scores pooled;
   nlohmann::json by_family = nlohmann::json::object();
   int scenes = 0;
@@ -179,8 +244,8 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
           auto locus = [&] { return terrain::buildLocusMap(image, grid, options); };
           auto binning = [&] { return terrain::buildBinnedMap(image, grid); };
           for (auto* s : {&scores, &pooled}) {
-            scoreMethod(s->locus, k, truth, locus);
-            scoreMethod(s->binning, k, truth, binning);
+            scoreMethod(s->locus, k, truth, locus, regions, foot);
+            scoreMethod(s->binning, k, truth, binning, regions, foot);
           }
           ++scenes;
         }

@@ -464,6 +464,11 @@ TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
   EXPECT_EQ(binning["shadow_recall"], 0.0);  // binning cannot tell a shadow
   EXPECT_EQ(report["families"].size(), 1u);
   EXPECT_TRUE(report["families"].contains("course"));
+  // Nine foothold regions per map, two maps; noise-free on the course with
+  // the scanner high, no best foothold stands on cells nobody saw.
+  EXPECT_GT(locus["footholds"].get<int>(), 9);
+  EXPECT_LE(locus["footholds"].get<int>(), 18);
+  EXPECT_EQ(locus["by_noise"][0]["footholds_on_unseen_cells"], 0);
 }
 
 // Each terrain family builds and scores; names and placements that do not
