@@ -157,14 +157,16 @@ nlohmann::json methodsJson(const Scores& s) {
   return {{"locus", methodJson(s.locus)}, {"binning", methodJson(s.binning)}};
 }
 
-constexpr const char* kTableKeys[] = {"footholds_on_unseen_cells",
-                                      "rmse_m",
+// rmse_m and coverage first: scripts read them as the third and fourth
+// columns (tests/packaging/PackageInstallTest.sh).
+constexpr const char* kTableKeys[] = {"rmse_m",
                                       "coverage",
                                       "shadow_recall_within_1_cell",
                                       "shadow_precision_within_1_cell",
                                       "occluded_known",
                                       "occluded_known_far",
-                                      "sigma_calibration"};
+                                      "sigma_calibration",
+                                      "footholds_on_unseen_cells"};
 
 void printMethods(const std::string& prefix, const nlohmann::json& methods) {
   for (const auto& [name, m] : methods.items())
