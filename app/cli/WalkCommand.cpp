@@ -7,6 +7,7 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
+#include "sim/TerrainFamilies.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::cli {
@@ -131,6 +132,11 @@ walk::WalkOptions onCourse(const std::string& course, std::uint64_t seed, int st
   walk::WalkOptions o;
   o.course.seed = seed;
   o.steps = steps;
+  // The rock fields at the top of the abundance the issue asks a walk to
+  // cross; the crater fields as their family draws them.
+  if (course == "rocks20") o.terrain = sim::makeRockField({.seed = seed, .abundance = 0.2});
+  if (course == "craters")
+    o.terrain = sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, seed);
   return o;
 }
 
@@ -275,8 +281,10 @@ void addWalk(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--course", args->course,
                   "obstacle: the cmu-1990 high-bay course, 50 m (box, trench, ramp, boulders, "
-                  "rocks); traverse: 90 m of its ground and rocks without box, trench and ramp")
-      ->check(CLI::IsMember({"obstacle", "traverse"}))
+                  "rocks); traverse: 90 m of its ground and rocks without box, trench and ramp; "
+                  "rocks20: a Golombek-Rapp rock field of 20 % abundance; craters: a crater "
+                  "field (docs/simulator.md), both 60 m")
+      ->check(CLI::IsMember({"obstacle", "traverse", "rocks20", "craters"}))
       ->capture_default_str();
   auto* radius = cmd->add_option("--radius", args->radius,
                                  "follow an arc of this radius [m], positive turns left "
@@ -328,8 +336,9 @@ void addEvalWalk(CLI::App& eval, Evaluations& all) {
   cmd->add_option("--steps", args->steps, "steps per walk")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  cmd->add_option("--course", args->course, "obstacle or traverse (see walk --help)")
-      ->check(CLI::IsMember({"obstacle", "traverse"}))
+  cmd->add_option("--course", args->course,
+                  "obstacle, traverse, rocks20 or craters (see walk --help)")
+      ->check(CLI::IsMember({"obstacle", "traverse", "rocks20", "craters"}))
       ->capture_default_str();
   cmd->add_option("--repetitions", args->repetitions,
                   "concurrent-against-sequential comparisons, cycling through the seeds")

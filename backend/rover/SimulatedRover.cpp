@@ -20,6 +20,9 @@ sim::RoverWorld makeWorld(const SimulatedRoverConfig& config, const SimulatedRov
     return sim::RoverWorld(std::make_unique<sim::HeightfieldTerrain>(sim::loadDtm(*o.dtm)),
                            o.course.seed, config.model, config.gait, config.noise, config.scanner,
                            o.scanned_area);
+  if (o.terrain)
+    return sim::RoverWorld(std::make_unique<sim::ProceduralTerrain>(*o.terrain), o.course.seed,
+                           config.model, config.gait, config.noise, config.scanner, o.scanned_area);
   return sim::RoverWorld(o.course, config.model, config.gait, config.noise, config.scanner,
                          o.scanned_area);
 }

@@ -38,9 +38,11 @@ SimulatedRoverConfig readInstalledSimulatedRoverConfig();
 struct SimulatedRoverOptions {
   std::uint32_t rover_id = 1;
   sim::CourseOptions course;  // its seed also draws the execution noise
-  // A real terrain model in place of the course (the course's seed still
-  // draws the noise).
+  // A real terrain model, or another procedural terrain (a terrain
+  // family's), in place of the course; the course's seed still draws the
+  // noise.
   std::optional<sim::DtmSource> dtm;
+  std::optional<sim::TerrainDescription> terrain;
   std::vector<link::OperatorKey> operators;
   Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
   // Hold on its own when no signed command (a GroundHeartbeat at least)

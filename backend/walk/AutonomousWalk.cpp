@@ -179,6 +179,7 @@ WalkResult runWalk(const WalkSetup& setup, const WalkOptions& options) {
   TruthTally truth;
   rover::SimulatedRoverOptions rover_options;
   rover_options.course = options.course;
+  rover_options.terrain = options.terrain;
   rover_options.operators = {walkKey()};
   rover_options.scanned_area = options.map_extent;
   rover_options.time_scale = options.time_scale;

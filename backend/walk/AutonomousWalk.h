@@ -32,7 +32,8 @@ WalkSetup readWalkSetup(const std::filesystem::path& rover_json,
 WalkSetup readInstalledWalkSetup();
 
 struct WalkOptions {
-  sim::CourseOptions course;  // its seed also draws the execution noise
+  sim::CourseOptions course;                       // its seed also draws the execution noise
+  std::optional<sim::TerrainDescription> terrain;  // in place of the course
   int steps = 25;
   gait::Heading heading;  // straight ahead by default
   // Plan the next step while the current one executes (cmu-1990 TCA), or

@@ -495,6 +495,22 @@ TEST(Cli, EvalElevationCoversTheFamiliesAndRefusesBadOptions) {
 namespace {
 
 // walk prints the keys; a broken rover configuration is named.
+// The Ambler crosses a 20 % Golombek-Rapp rock field and a crater field
+// (the simulator's truth counts CSP violations and leg collisions).
+TEST(Cli, WalksOnARockFieldAndACraterField) {
+  for (const char* course : {"rocks20", "craters"}) {
+    const auto run =
+        runCli(std::string("walk --course ") + course + " --seed 1001 --steps 8 --json");
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+    const auto j = nlohmann::json::parse(run.out);
+    EXPECT_EQ(j["steps"], 8) << course;
+    EXPECT_EQ(j["csp_violations"], 0) << course;
+    EXPECT_EQ(j["leg_collisions"], 0) << course;
+    EXPECT_GT(j["distance_m"].get<double>(), 2.5) << course;
+  }
+  EXPECT_NE(runCli("walk --course moon --steps 2").exit_code, 0);
+}
+
 TEST(Cli, WalkPrintsTheWalksFigures) {
   const auto run = runCli("walk --seed 4 --steps 6 --json");
   ASSERT_EQ(run.exit_code, 0) << run.out;
