@@ -224,13 +224,16 @@ class GroundStationTest : public QObject {
     // From a pixel beside it: a move to where the pointer already is sends
     // no event.
     const QPoint at = c.map.widgetPointOf(planned).toPoint();
-    QTRY_VERIFY2(
+    // The readout needs the walk's cost maps from a worker; with other tests
+    // keeping both cores busy it once took 14 s on CI: the same patience as
+    // the other waits on the walk.
+    QTRY_VERIFY2_WITH_TIMEOUT(
         [&] {
           QTest::mouseMove(&c.map, at + QPoint(3, 3));
           QTest::mouseMove(&c.map, at);
           return c.map.readout().contains("composite cost");
         }(),
-        qPrintable(c.map.readout()));
+        qPrintable(c.map.readout()), 30000);
     const QString error = screenshot(&c.map, "terrain-map-composite-cost.png");
     QVERIFY2(error.isEmpty(), qPrintable(error));
     c.map.setShown(MapView::Shown::kElevation);
