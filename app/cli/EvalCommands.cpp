@@ -125,9 +125,16 @@ FootholdCount scoreFootholds(const terrain::ElevationMap& map, const sim::Visibi
         footfall::evaluateFootfalls(map, region, footfall::Criterion::kEquilibrium, foot));
     if (!best.found) continue;
     ++count.chosen;
+    // Only the cells around the foot can be under it.
+    const int r0 = std::max(0, int(std::floor((best.y - radius - g.origin_y) / g.resolution)));
+    const int r1 =
+        std::min(g.rows - 1, int(std::floor((best.y + radius - g.origin_y) / g.resolution)));
+    const int c0 = std::max(0, int(std::floor((best.x - radius - g.origin_x) / g.resolution)));
+    const int c1 =
+        std::min(g.cols - 1, int(std::floor((best.x + radius - g.origin_x) / g.resolution)));
     bool unseen = false;
-    for (int r = 0; r < g.rows && !unseen; ++r)
-      for (int c = 0; c < g.cols && !unseen; ++c) {
+    for (int r = r0; r <= r1 && !unseen; ++r)
+      for (int c = c0; c <= c1 && !unseen; ++c) {
         const auto p = g.cellCenter(r, c);
         unseen = std::hypot(p.x() - best.x, p.y() - best.y) <= radius && truth.state(r, c) != 0;
       }

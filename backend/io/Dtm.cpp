@@ -211,9 +211,10 @@ void writeGeoTiffAs(const std::filesystem::path& path, const Image<T>& image, co
     auto* band = ds->GetRasterBand(1);
     if (nan_is_nodata) band->SetNoDataValue(NAN);
     if (!unit.empty()) band->SetUnitType(unit.c_str());
-    auto pixels = image.pixels;  // RasterIO takes a non-const buffer
-    if (band->RasterIO(GF_Write, 0, 0, image.cols, image.rows, pixels.data(), image.cols,
-                       image.rows, type, 0, 0) != CE_None)
+    // RasterIO takes a non-const buffer but only reads it when writing.
+    auto* pixels = const_cast<T*>(image.pixels.data());
+    if (band->RasterIO(GF_Write, 0, 0, image.cols, image.rows, pixels, image.cols, image.rows, type,
+                       0, 0) != CE_None)
       fail(path, std::string("cannot write: ") + CPLGetLastErrorMsg());
   }
   std::error_code ec;

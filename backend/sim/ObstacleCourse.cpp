@@ -8,25 +8,6 @@ namespace ambler::sim {
 
 namespace {
 
-std::vector<Wave> rollingGround(RandomDraw& draw, int count, double amp_lo, double amp_hi,
-                                double wavelength_lo, double wavelength_hi) {
-  std::vector<Wave> waves;
-  for (int i = 0; i < count; ++i) {
-    const double k = 2 * M_PI / draw(wavelength_lo, wavelength_hi);
-    const double dir = draw(0, 2 * M_PI);
-    waves.push_back(
-        {draw(amp_lo, amp_hi), k * std::cos(dir), k * std::sin(dir), draw(0, 2 * M_PI)});
-  }
-  return waves;
-}
-
-bool overlapsAny(const Box2& b, const std::vector<Box2>& taken) {
-  for (const auto& t : taken)
-    if (b.x_min < t.x_max && b.x_max > t.x_min && b.y_min < t.y_max && b.y_max > t.y_min)
-      return true;
-  return false;
-}
-
 // Places up to `count` rocks in `area` without overlapping `taken`; sizes in
 // metres, burial as the fraction of a3 by which the centre sits below the
 // ground.

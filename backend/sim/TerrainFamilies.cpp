@@ -10,15 +10,9 @@ namespace ambler::sim {
 
 namespace {
 
+// Gentle rolling ground under a family's features: wavelengths 5-15 m.
 std::vector<Wave> gentleWaves(RandomDraw& draw, int count, double amp_hi) {
-  std::vector<Wave> waves;
-  for (int i = 0; i < count; ++i) {
-    const double k = 2 * M_PI / draw(5.0, 15.0);
-    const double dir = draw(0, 2 * M_PI);
-    waves.push_back(
-        {draw(0.3 * amp_hi, amp_hi), k * std::cos(dir), k * std::sin(dir), draw(0, 2 * M_PI)});
-  }
-  return waves;
+  return rollingGround(draw, count, 0.3 * amp_hi, amp_hi, 5.0, 15.0);
 }
 
 double area(const Box2& b) { return b.width() * b.height(); }
@@ -178,11 +172,7 @@ TerrainDescription makeNegativeObstacles(const NegativeObstacleOptions& o) {
       const Footprint fp{draw(-8, 8), draw(5, 20), draw(0, M_PI), 0.5 * draw(2.0, 8.0), half_y};
       const double depth = draw(0.2, 1.0);
       const auto b = fp.bounds();
-      const bool clash = std::any_of(taken.begin(), taken.end(), [&](const Box2& t) {
-        return b.x_min < t.x_max + 1 && b.x_max + 1 > t.x_min && b.y_min < t.y_max + 1 &&
-               b.y_max + 1 > t.y_min;
-      });
-      if (clash) continue;
+      if (overlapsAny(b, taken, 1.0)) continue;
       d.features.push_back(Trench{fp, depth, ditch ? half_y : 0.0});
       taken.push_back(b);
       ++placed;
