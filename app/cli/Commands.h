@@ -16,6 +16,7 @@ namespace ambler::cli {
 void addSimScan(CLI::App& app);
 void addSimStriper(CLI::App& app);
 void addSimCamera(CLI::App& app);
+void addSimPairs(CLI::App& app);
 void addInfo(CLI::App& app);
 void addMap(CLI::App& app);
 void addEval(CLI::App& app);

@@ -93,7 +93,7 @@ nlohmann::json evalMapping(const EvalMappingArgs& args) {
         Eigen::Translation3d(0.1 * travelled * drift) * truth *
         Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d(u(rng), u(rng), 1).normalized());
     auto start = std::chrono::steady_clock::now();
-    const auto r = mapping::registerIcp(b.points, a.points, dead_reckoned);
+    const auto r = mapping::registerClouds(b.points, a.points, dead_reckoned);
     icp_ms.push_back(millisecondsSince(start));
     trans_pct.push_back(100 * (r.transform.translation() - truth.translation()).norm() / travelled);
     rot_deg.push_back(angleDeg(r.transform.linear(), truth.linear()));
@@ -102,9 +102,9 @@ nlohmann::json evalMapping(const EvalMappingArgs& args) {
     start = std::chrono::steady_clock::now();
     const auto g = mapping::localize(a.points, mapping::withoutYaw(a.pose.linear()), coarse);
     global_s.push_back(millisecondsSince(start) / 1000);
-    const double err = (g.transform.translation() - a.pose.translation()).norm();
+    const double err = g ? (g->transform.translation() - a.pose.translation()).norm() : INFINITY;
     global_err_m.push_back(err);
-    global_ok += err < 0.5 && angleDeg(g.transform.linear(), a.pose.linear()) < 2.0;
+    global_ok += g && err < 0.5 && angleDeg(g->transform.linear(), a.pose.linear()) < 2.0;
     // The mesh of view a in the world and a path across it, from the
     // triangles nearest 5 m and 16 m ahead (the view has holes: shadows).
     mapping::Cloud world;
@@ -208,7 +208,8 @@ nlohmann::json evalDem(const EvalDemArgs& args) {
         scan.emplace_back(xy.x(), xy.y(), p.z());
       }
     start = std::chrono::steady_clock::now();
-    const auto r = mapping::localize(scan, Eigen::Matrix3d::Identity(), model, options);
+    const auto r = mapping::localize(scan, Eigen::Matrix3d::Identity(), model, options)
+                       .value_or(mapping::Registration{});
     seconds.push_back(millisecondsSince(start) / 1000);
     err_m.push_back((r.transform.translation().head<2>() - centre).norm());
     const double got = std::atan2(r.transform.linear()(1, 0), r.transform.linear()(0, 0));
@@ -244,31 +245,63 @@ nlohmann::json evalDem(const EvalDemArgs& args) {
 }
 
 struct RegisterArgs {
-  std::string source, target, initial = "0,0,0,0", out;
+  std::string source, target, initial = "0,0,0,0,0,0", about = "0,0,0", out;
   bool global = false;
   double cell_m = 1.0;
   bool json = true;  // the only output form
 };
 
-Eigen::Isometry3d poseFrom(const std::string& text) {
-  const auto v = parseNumbers(text, 4, "--initial", "X,Y,Z,YAW_DEG");
+// X,Y,Z [m],ROLL,PITCH,YAW [deg] (or X,Y,Z,YAW), the turn R = Rz Ry Rx
+// about `about`: a source point p goes to R (p - about) + about + (X,Y,Z).
+Eigen::Isometry3d guessFrom(const std::string& text, const std::string& about_text) {
+  const bool full = std::count(text.begin(), text.end(), ',') != 3;
+  const auto v = parseNumbers(text, full ? 6 : 4, "--initial",
+                              "X,Y,Z,ROLL_DEG,PITCH_DEG,YAW_DEG (or X,Y,Z,YAW_DEG)");
+  const auto a = parseNumbers(about_text, 3, "--about", "X,Y,Z");
+  const double deg = M_PI / 180;
+  const double roll = full ? v[3] : 0, pitch = full ? v[4] : 0, yaw = full ? v[5] : v[3];
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(yaw * deg, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(pitch * deg, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(roll * deg, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  const Eigen::Vector3d about(a[0], a[1], a[2]);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-  pose.linear() = Eigen::AngleAxisd(v[3] * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.linear() = r;
+  pose.translation() = about - r * about + Eigen::Vector3d(v[0], v[1], v[2]);
   return pose;
 }
 
+nlohmann::json qualityJson(const mapping::RegistrationQuality& q) {
+  auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  return {{"verdict", mapping::verdictName(q.verdict)},
+          {"reason", q.reason},
+          {"overlap", q.overlap},
+          {"partners", q.partners},
+          {"height_agreement", finite(q.agreement)},
+          {"rms_m", q.rms_m},
+          {"weakest_axis", q.weakest_axis},
+          {"weakest_sigma_m", finite(q.weakest_sigma_m)},
+          {"sigma_m", {finite(q.sigma[0]), finite(q.sigma[1]), finite(q.sigma[2])}},
+          {"sigma_deg",
+           {finite(q.sigma[3] * 180 / M_PI), finite(q.sigma[4] * 180 / M_PI),
+            finite(q.sigma[5] * 180 / M_PI)}}};
+}
+
 void runRegister(const RegisterArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto guess = guessFrom(args.initial, args.about);
   const auto source = mapping::readCloud(args.source);
   const auto target = mapping::readCloud(args.target);
-  const auto start = std::chrono::steady_clock::now();
+  const double read_ms = millisecondsSince(start);
   mapping::Registration r;
   if (args.global) {
     mapping::GlobalOptions options;
     options.cell_m = args.cell_m;
-    r = mapping::localize(source, Eigen::Matrix3d::Identity(), target, options);
+    const auto found = mapping::localize(source, Eigen::Matrix3d::Identity(), target, options);
+    if (!found) throw std::runtime_error("no placement of the source overlaps the model enough");
+    r = *found;
   } else {
-    r = mapping::registerIcp(source, target, poseFrom(args.initial));
+    r = mapping::registerClouds(source, target, guess);
   }
   const double ms = millisecondsSince(start);
   if (!args.out.empty()) {
@@ -290,9 +323,11 @@ void runRegister(const RegisterArgs& args) {
              {"iterations", r.iterations},
              {"pairs", r.pairs},
              {"rms_m", r.rms_m},
+             {"quality", qualityJson(r.quality)},
+             {"read_ms", read_ms},
              {"ms", ms}});
-  if (!r.converged && args.global)
-    throw std::runtime_error("no placement of the source overlaps the model enough");
+  if (r.quality.verdict == mapping::Verdict::kNoOverlap)
+    throw std::runtime_error("the clouds do not overlap: " + r.quality.reason);
 }
 
 struct MeshArgs {
@@ -367,7 +402,12 @@ void addRegister(CLI::App& app) {
       ->required();
   cmd->add_option("target", args->target, "point cloud or coarse model (.pcd)")->required();
   cmd->add_option("--initial", args->initial,
-                  "source-to-target pose to start ICP from, X,Y,Z [m],YAW [deg]")
+                  "source-to-target guess to start from: X,Y,Z [m],ROLL,PITCH,YAW [deg] "
+                  "(R = Rz Ry Rx, turning about --about), or X,Y,Z,YAW")
+      ->capture_default_str();
+  cmd->add_option("--about", args->about,
+                  "the point of the source's frame the guess turns about, X,Y,Z [m] (the "
+                  "scanner, say)")
       ->capture_default_str();
   cmd->add_flag("--global", args->global,
                 "no prior: TARGET is a model on a regular grid, SOURCE a scan with z up");

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   ambler::cli::addSimScan(app);
   ambler::cli::addSimStriper(app);
   ambler::cli::addSimCamera(app);
+  ambler::cli::addSimPairs(app);
   ambler::cli::addInfo(app);
   ambler::cli::addMap(app);
   ambler::cli::addEval(app);

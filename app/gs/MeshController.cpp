@@ -204,15 +204,28 @@ void MeshController::refresh() {
   QString text;
   const auto& registered = chain_.registered();
   if (registered.size() > 1) {
-    const Eigen::Isometry3d& correction = chain_.last().transform;
-    const Eigen::Vector3d t = correction.translation();
-    text = tr("%1 walk scans registered and merged; the last moved %2 m and %3° by ICP "
-              "(rms %4 cm, %5 s). ")
-               .arg(registered.size())
-               .arg(t.norm(), 0, 'f', 3)
-               .arg(Eigen::AngleAxisd(correction.linear()).angle() * 180 / M_PI, 0, 'f', 2)
-               .arg(100 * chain_.last().rms_m, 0, 'f', 1)
-               .arg(icp_ms_ / 1000, 0, 'f', 1);
+    const auto& last = chain_.last();
+    const Eigen::Vector3d t = last.transform.translation();
+    const QString verdict = QString::fromUtf8(mapping::verdictName(last.quality.verdict));
+    const QString how =
+        last.quality.reason.empty()
+            ? verdict
+            : tr("%1: %2").arg(verdict, QString::fromStdString(last.quality.reason));
+    text =
+        mapping::ScanChain::applies(last)
+            ? tr("%1 walk scans registered and merged; the last moved %2 m and %3° "
+                 "(%4; rms %5 cm, overlap %6 %, %7 s). ")
+                  .arg(registered.size())
+                  .arg(t.norm(), 0, 'f', 3)
+                  .arg(Eigen::AngleAxisd(last.transform.linear()).angle() * 180 / M_PI, 0, 'f', 2)
+                  .arg(how)
+                  .arg(100 * last.rms_m, 0, 'f', 1)
+                  .arg(100 * last.quality.overlap, 0, 'f', 0)
+                  .arg(icp_ms_ / 1000, 0, 'f', 1)
+            : tr("%1 walk scans merged; the last kept where dead reckoning put it, its "
+                 "registration not applied (%2). ")
+                  .arg(registered.size())
+                  .arg(how);
   }
   if (registering())
     text += tr("Registering %1 scan(s)… ").arg(chain_.waiting() + (chain_.busy() ? 1 : 0));

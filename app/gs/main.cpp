@@ -198,8 +198,9 @@ int main(int argc, char** argv) {
   options.operator_id = qEnvironmentVariable("USER", "operator");
   options.log_dir = parser.value(log_dir_option);
   if (parser.isSet(dtm_option))
-    options.dtm = ambler::sim::DtmSource{parser.value(dtm_option).toStdString(),
-                                         {.width = 60.0, .height = 60.0, .resolution = 0.1}};
+    options.dtm =
+        ambler::sim::DtmSource{parser.value(dtm_option).toStdString(),
+                               {.centre = {}, .width = 60.0, .height = 60.0, .resolution = 0.1}};
   try {
     options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
     options.ground = ambler::gait::readInstalledGaitContext();

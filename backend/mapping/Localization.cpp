@@ -296,11 +296,16 @@ Placement refined(const std::vector<Patch>& patches, const Lattice& model, const
   return searchAround(patches, model, coarse, yaw_step / 8, model.cell / 16, o);
 }
 
-IcpOptions refineInMetres(const GlobalOptions& o) {
-  IcpOptions icp = o.refine;
-  icp.voxel_m *= o.cell_m, icp.normal_radius_m *= o.cell_m, icp.max_distance_m *= o.cell_m;
-  icp.min_step_m *= o.cell_m;
-  return icp;
+RegistrationOptions refineInMetres(const GlobalOptions& o) {
+  RegistrationOptions r = o.refine;
+  for (double* length :
+       {&r.voxel_m, &r.source_voxel_m, &r.min_thickness_m, &r.max_distance_m, &r.min_distance_m,
+        &r.min_step, &r.partner_distance_m, &r.partner_plane_m, &r.max_rms_m, &r.sigma_floor_m,
+        &r.agreement_tolerance_m, &r.degenerate_sigma_m, &r.doubtful_sigma_m})
+    *length *= o.cell_m;
+  for (double* length : {&r.search.cell_m, &r.search.max_shift_m, &r.search.truncation_m})
+    *length *= o.cell_m;
+  return r;
 }
 
 }  // namespace
@@ -325,8 +330,8 @@ void validate(const GlobalOptions& o) {
   validate(refineInMetres(o));
 }
 
-Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Cloud& model,
-                      const GlobalOptions& o) {
+std::optional<Registration> localize(const Cloud& scan, const Eigen::Matrix3d& tilt,
+                                     const Cloud& model, const GlobalOptions& o) {
   validate(o);
   for (const auto* cloud : {&scan, &model})
     for (const auto& p : *cloud)
@@ -361,7 +366,7 @@ Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Clou
   std::vector<Placement> best;
   for (const auto& placements : by_heading)
     for (const auto& p : placements) keepBest(best, p, o.candidates, o.cell_m, yaw_step);
-  if (best.empty()) return {};
+  if (best.empty()) return std::nullopt;
   std::vector<Placement> refinements(best.size());
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t k = 0; k < best.size(); ++k)
@@ -369,16 +374,12 @@ Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Clou
   Placement winner;
   for (const auto& r : refinements)
     if (r.score < winner.score) winner = r;
-  if (!std::isfinite(winner.score)) return {};
+  if (!std::isfinite(winner.score)) return std::nullopt;
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
   start.translation() = Eigen::Vector3d(winner.shift.x(), winner.shift.y(), winner.dz);
   start.linear() =
       Eigen::AngleAxisd(winner.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * tilt;
-  auto r = registerIcp(scan, model, start, refineInMetres(o));
-  // Found. Against a 1 m model ICP may reach its iteration cap still
-  // moving by millimetres; that is not a failure to localize.
-  r.converged = true;
-  return r;
+  return registerClouds(scan, model, start, refineInMetres(o));
 }
 
 }  // namespace ambler::mapping

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 
 #include "mapping/Registration.h"
 
@@ -18,7 +19,7 @@ namespace ambler::mapping {
 //  2. each is refined over a finer grid of heading and shift, scored on the
 //     80 % of cells that agree best (the rest: cells whose hidden part
 //     differs from what the scan saw);
-//  3. the best refined placement starts ICP against the model.
+//  3. the best refined placement starts registration against the model.
 // A placement scores the variance of the height differences (up to one
 // common offset) over the scan's own height variance: flat ground fits a
 // flat scan anywhere, so a placement counts by how much of the scan's
@@ -33,14 +34,23 @@ struct GlobalOptions {
   double min_cell_coverage = 0.8;
   int candidates = 5;             // placements refined
   double trimmed_fraction = 0.8;  // of the overlap's cells, scored in the refinement
-  // ICP against the model, its lengths in model cells (voxel_m = 0.2: a
-  // fifth of a cell).
-  IcpOptions refine{.voxel_m = 0.2,
-                    .normal_radius_m = 1.5,
-                    .max_distance_m = 1.5,
-                    .max_normal_angle_deg = 30,
-                    .max_curvature_change = 0.1,
-                    .max_iterations = 20};
+  // Registration against the model, its lengths in model cells.
+  RegistrationOptions refine{.voxel_m = 0.2,
+                             .source_voxel_m = 0.4,
+                             .min_thickness_m = 0.01,
+                             .search_heights = false,
+                             .search = {},
+                             .max_distance_m = 1.5,
+                             .min_distance_m = 0.5,
+                             .max_iterations = 20,
+                             .partner_distance_m = 0.75,
+                             .partner_plane_m = 0.1,
+                             .agreement_tolerance_m = 0.5,
+                             .min_agreement = 0.0,
+                             .max_rms_m = 0.05,
+                             .sigma_floor_m = 0.02,
+                             .degenerate_sigma_m = 0.05,
+                             .doubtful_sigma_m = 0.01};
 };
 
 // Throws std::invalid_argument naming the first option out of range.
@@ -52,11 +62,11 @@ Eigen::Matrix3d withoutYaw(const Eigen::Matrix3d& sensor_to_world);
 
 // `tilt`: the scan frame's rotation to a level frame (withoutYaw); `model`:
 // heights on a regular grid of `cell_m` (its phase is taken from the
-// points). The result maps the scan into the model's frame; not converged,
-// identity, when no placement overlaps the model enough (converged then
-// means a placement was found, whether or not ICP settled). Throws
+// points). The result maps the scan into the model's frame, refined by
+// registration against the model (whose own convergence and verdict it
+// carries); none when no placement overlaps the model enough. Throws
 // std::invalid_argument for non-finite points or a scan too small.
-Registration localize(const Cloud& scan, const Eigen::Matrix3d& tilt, const Cloud& model,
-                      const GlobalOptions& options = {});
+std::optional<Registration> localize(const Cloud& scan, const Eigen::Matrix3d& tilt,
+                                     const Cloud& model, const GlobalOptions& options = {});
 
 }  // namespace ambler::mapping

@@ -1,172 +1,475 @@
-// Every PCL template the project instantiates for registration lives in
-// this file (compile cost: ../shared/STACK.md).
 #include "mapping/Registration.h"
 
-#include <pcl/features/normal_3d.h>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
-#include <pcl/search/kdtree.h>
+#include <omp.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
-#include <string>
+#include <unordered_map>
+
+#include "mapping/HeightSearch.h"
+#include "mapping/PointIndex.h"
 
 namespace ambler::mapping {
 
-void validate(const IcpOptions& o) {
+void validate(const RegistrationOptions& o) {
   auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw std::invalid_argument("icp option " + what);
+    if (!ok) throw std::invalid_argument("registration option " + what);
   };
-  require(o.voxel_m > 0 && o.voxel_m <= 1e4, "voxel_m must be in (0, 10 km]");
-  require(o.normal_radius_m > 0 && o.normal_radius_m <= 1e5,
-          "normal_radius_m must be in (0, 100 km]");
-  require(o.max_distance_m > 0, "max_distance_m must be positive");
-  require(o.max_normal_angle_deg > 0 && o.max_normal_angle_deg <= 180,
-          "max_normal_angle_deg must be in (0, 180]");
-  require(o.max_curvature_change > 0, "max_curvature_change must be positive");
+  require(o.voxel_m > 0 && o.voxel_m <= 1e3, "voxel_m must be in (0, 1 km]");
+  require(o.source_voxel_m >= o.voxel_m && o.source_voxel_m <= 1e3,
+          "source_voxel_m must be in [voxel_m, 1 km]");
+  require(o.neighbours >= 5 && o.neighbours <= 100, "neighbours must be in [5, 100]");
+  require(o.min_thickness_m > 0, "min_thickness_m must be positive");
+  require(o.min_distance_m > 0 && o.max_distance_m >= o.min_distance_m,
+          "max_distance_m must be >= min_distance_m > 0");
+  require(o.kernel_sigmas > 0, "kernel_sigmas must be positive");
   require(o.max_iterations >= 1 && o.max_iterations <= 10000,
           "max_iterations must be in [1, 10000]");
-  require(o.min_step_m >= 0, "min_step_m must be >= 0");
+  require(o.min_step >= 0, "min_step must be >= 0");
+  require(o.threads >= 0 && o.threads <= 1024, "threads must be in [0, 1024]");
+  require(o.partner_distance_m > 0 && o.partner_plane_m > 0,
+          "partner_distance_m and partner_plane_m must be positive");
+  require(o.min_overlap >= 0 && o.min_overlap <= o.trusted_overlap && o.trusted_overlap <= 1,
+          "overlaps must satisfy 0 <= min_overlap <= trusted_overlap <= 1");
+  require(o.max_rms_m > 0, "max_rms_m must be positive");
+  require(o.sigma_floor_m > 0, "sigma_floor_m must be positive");
+  require(o.agreement_tolerance_m > 0, "agreement_tolerance_m must be positive");
+  require(o.min_agreement >= 0 && o.min_agreement <= 1, "min_agreement must be in [0, 1]");
+  require(o.doubtful_sigma_m > 0 && o.degenerate_sigma_m >= o.doubtful_sigma_m,
+          "sigmas must satisfy 0 < doubtful_sigma_m <= degenerate_sigma_m");
+}
+
+const char* verdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kTrusted:
+      return "trusted";
+    case Verdict::kDoubtful:
+      return "doubtful";
+    case Verdict::kDegenerate:
+      return "degenerate";
+    case Verdict::kNoOverlap:
+      return "no overlap";
+  }
+  return "no overlap";
 }
 
 namespace {
 
-using Points = pcl::PointCloud<pcl::PointXYZ>;
-using Oriented = pcl::PointCloud<pcl::PointNormal>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-Points::Ptr thinned(const Cloud& cloud, double voxel) {
-  Points::Ptr raw(new Points), out(new Points);
-  for (const auto& p : cloud) {
-    if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
-    raw->push_back({float(p.x()), float(p.y()), float(p.z())});
+// A thinned point with the shape of its neighbourhood.
+struct Surfel {
+  Eigen::Vector3d p;
+  Eigen::Matrix3d cov;
+  Eigen::Vector3d normal;
+};
+
+// The cloud's centroid and principal axes, signed by the third moment
+// along each: a frame that moves with the cloud.
+Eigen::Isometry3d principalFrame(const Cloud& cloud) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : cloud) c += p;
+  c /= double(cloud.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : cloud) cov += (p - c) * (p - c).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Eigen::Vector3d e1 = es.eigenvectors().col(2), e2 = es.eigenvectors().col(1);
+  double m1 = 0, m2 = 0;
+  for (const auto& p : cloud)
+    m1 += std::pow((p - c).dot(e1), 3), m2 += std::pow((p - c).dot(e2), 3);
+  if (m1 < 0) e1 = -e1;
+  if (m2 < 0) e2 = -e2;
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.linear().col(0) = e1;
+  frame.linear().col(1) = e2;
+  frame.linear().col(2) = e1.cross(e2);
+  frame.translation() = c;
+  return frame;
+}
+
+// A voxel's index packed in 21 bits per axis, for points within
+// kVoxelSpan voxels of the origin.
+constexpr std::int64_t kVoxelSpan = std::int64_t(1) << 20;
+std::uint64_t voxelKey(const Eigen::Vector3d& p, double voxel) {
+  const Eigen::Vector3d v = (p / voxel).array().floor();
+  std::uint64_t key = 0;
+  for (int a = 0; a < 3; ++a) key = key << 21 | std::uint64_t(std::int64_t(v[a]) + kVoxelSpan);
+  return key;
+}
+
+// One mean point per occupied voxel, in the order the voxels were first met.
+std::vector<Eigen::Vector3d> voxelMeans(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
+                                        double voxel) {
+  std::unordered_map<std::uint64_t, std::size_t> slot;
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> count;
+  for (const auto& raw : cloud) {
+    const Eigen::Vector3d p = to_frame * raw;
+    if (((p / voxel).array().abs() >= double(kVoxelSpan - 1)).any())
+      throw std::invalid_argument("registration: a point lies over " +
+                                  std::to_string(int(kVoxelSpan * voxel / 1000)) +
+                                  " km from the target's centre");
+    const auto [it, fresh] = slot.try_emplace(voxelKey(p, voxel), sum.size());
+    if (fresh) sum.emplace_back(Eigen::Vector3d::Zero()), count.push_back(0);
+    sum[it->second] += p, ++count[it->second];
   }
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(raw);
-  grid.setLeafSize(float(voxel), float(voxel), float(voxel));
-  grid.filter(*out);
+  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] /= count[i];
+  return sum;
+}
+
+std::vector<Eigen::Vector3f> asFloat(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(points.size());
+  for (const auto& p : points) out.push_back(p.cast<float>());
   return out;
 }
 
-// Points with unit normals (turned to face up: terrain seen from above)
-// and curvature; points without enough neighbours are dropped.
-Oriented::Ptr oriented(const Points::Ptr& points, double radius) {
-  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimate;
-  pcl::PointCloud<pcl::Normal> normals;
-  estimate.setInputCloud(points);
-  estimate.setSearchMethod(
-      pcl::search::KdTree<pcl::PointXYZ>::Ptr(new pcl::search::KdTree<pcl::PointXYZ>));
-  estimate.setRadiusSearch(radius);
-  estimate.compute(normals);
-  Oriented::Ptr out(new Oriented);
-  for (std::size_t i = 0; i < points->size(); ++i) {
-    const auto& n = normals[i];
-    if (!std::isfinite(n.normal_x) || !std::isfinite(n.curvature)) continue;
-    pcl::PointNormal p;
-    p.getVector3fMap() = (*points)[i].getVector3fMap();
-    const float up = n.normal_z < 0 ? -1.0f : 1.0f;
-    p.normal_x = up * n.normal_x, p.normal_y = up * n.normal_y, p.normal_z = up * n.normal_z;
-    p.curvature = n.curvature;
-    out->push_back(p);
+// Each point's neighbourhood as a covariance: a plane along its normal, as
+// thin across as the floor and as wide along as the neighbourhood's
+// narrower spread (at least a voxel), so that pairs pull across surfaces
+// and slide along them (plane-to-plane GICP). The neighbourhood's measured
+// thickness was tried instead: on noisy scans it made the fit worse.
+std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
+                            const RegistrationOptions& o, int threads) {
+  std::vector<Surfel> out(points.size());
+  std::vector<char> ok(points.size(), 0);
+  const int k = o.neighbours;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::array<unsigned, 100> idx{};
+    std::array<float, 100> d2{};
+    const int n = index.nearest(points[i].cast<float>(), k, idx.data(), d2.data());
+    if (n < 5) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int j = 0; j < n; ++j) mean += points[idx[std::size_t(j)]];
+    mean /= n;
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector3d d = points[idx[std::size_t(j)]] - mean;
+      cov += d * d.transpose();
+    }
+    cov /= n;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    const Eigen::Vector3d normal = es.eigenvectors().col(0);
+    const Eigen::Matrix3d across = normal * normal.transpose();
+    const double along = std::max(es.eigenvalues()[1], o.voxel_m * o.voxel_m);
+    out[i] = {points[i],
+              o.min_thickness_m * o.min_thickness_m * across +
+                  along * (Eigen::Matrix3d::Identity() - across),
+              normal};
+    ok[i] = 1;
+  }
+  std::vector<Surfel> kept;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (ok[i]) kept.push_back(out[i]);
+  return kept;
+}
+
+// The source points moved: one per coarse voxel, the first met.
+std::vector<Surfel> sparser(const std::vector<Surfel>& surfels, double voxel) {
+  std::unordered_map<std::uint64_t, char> seen;
+  std::vector<Surfel> out;
+  for (const auto& s : surfels) {
+    if (seen.try_emplace(voxelKey(s.p, voxel), 1).second) out.push_back(s);
   }
   return out;
 }
 
-Oriented::Ptr prepare(const Cloud& cloud, double voxel, double radius, const char* which) {
-  auto out = oriented(thinned(cloud, voxel), radius);
-  if (out->size() < 10)
-    throw std::invalid_argument(std::string("registration: the ") + which + " has " +
-                                std::to_string(out->size()) +
-                                " points with normals after thinning; at least 10 needed");
-  return out;
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
 }
 
-Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
+Eigen::Isometry3d exp(const Vector6d& step) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.matrix() = m.cast<double>();
+  const Eigen::Vector3d w = step.head<3>();
+  if (w.norm() > 0) t.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  t.translation() = step.tail<3>();
   return t;
 }
 
-Registration icp(const Oriented::Ptr& source, const Oriented::Ptr& target,
-                 const Eigen::Isometry3d& initial, const IcpOptions& o) {
-  pcl::KdTreeFLANN<pcl::PointNormal> tree;
-  tree.setInputCloud(target);
-  const float cos_limit = float(std::cos(o.max_normal_angle_deg * M_PI / 180));
-  pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal, pcl::PointNormal>
-      estimate;
-  Registration r;
-  r.transform = initial;
-  Oriented moved;
-  std::vector<int> index(1);
-  std::vector<float> distance(1);
-  double last_rms = INFINITY;
-  int stalled = 0;
-  for (r.iterations = 1; r.iterations <= o.max_iterations; ++r.iterations) {
-    pcl::transformPointCloudWithNormals(*source, moved, r.transform.matrix().cast<float>());
-    pcl::Correspondences candidates;
-    std::vector<float> gaps;
-    for (int i = 0; i < int(moved.size()); ++i) {
-      if (tree.nearestKSearch(moved[std::size_t(i)], 1, index, distance) != 1) continue;
-      if (distance[0] > o.max_distance_m * o.max_distance_m) continue;
-      const auto& s = moved[std::size_t(i)];
-      const auto& t = (*target)[std::size_t(index[0])];
-      if (s.getNormalVector3fMap().dot(t.getNormalVector3fMap()) < cos_limit) continue;
-      if (std::abs(s.curvature - t.curvature) > o.max_curvature_change) continue;
-      candidates.emplace_back(i, index[0], distance[0]);
-      gaps.push_back(distance[0]);
-    }
-    if (candidates.size() < 6) return r;
-    // Pairs beyond three times the median gap go: where the views do not
-    // overlap, points pair with the other cloud's edge and drag it along.
-    std::nth_element(gaps.begin(), gaps.begin() + std::ptrdiff_t(gaps.size() / 2), gaps.end());
-    const float limit = std::max(9.0f * gaps[gaps.size() / 2], float(o.voxel_m * o.voxel_m));
-    pcl::Correspondences pairs;
-    double sum = 0;
-    for (const auto& c : candidates) {
-      if (c.distance > limit) continue;
-      pairs.push_back(c);
-      const auto& s = moved[std::size_t(c.index_query)];
-      const auto& t = (*target)[std::size_t(c.index_match)];
-      const double d = (s.getVector3fMap() - t.getVector3fMap()).dot(t.getNormalVector3fMap());
-      sum += d * d;
-    }
-    r.pairs = pairs.size();
-    r.rms_m = pairs.empty() ? INFINITY : std::sqrt(sum / double(pairs.size()));
-    if (pairs.size() < 6) return r;
-    Eigen::Matrix4f step;
-    estimate.estimateRigidTransformation(moved, *target, pairs, step);
-    r.transform = toIsometry(step) * r.transform;
-    // The largest move the step gave a point of the source.
-    double largest = 0;
-    for (const auto& p : moved)
-      largest = std::max(largest, double((step.topLeftCorner<3, 3>() * p.getVector3fMap() +
-                                          step.topRightCorner<3, 1>() - p.getVector3fMap())
-                                             .norm()));
-    // Converged when the step is negligible, or when the fit has stopped
-    // improving (the pairs then flip between two sets of equal merit).
-    stalled = std::abs(r.rms_m - last_rms) < 1e-6 ? stalled + 1 : 0;
-    last_rms = r.rms_m;
-    if (largest <= o.min_step_m || stalled >= 3) {
-      r.converged = true;
-      return r;
-    }
+// Normal equations summed in fixed chunks, then the chunks in order: the
+// same sums whatever the number of threads.
+struct NormalEquations {
+  Matrix6d h = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  std::size_t pairs = 0;
+  double residual2 = 0, radius2 = 0;  // sums over the pairs, for the verdict
+  void add(const NormalEquations& o) {
+    h += o.h, g += o.g, pairs += o.pairs, residual2 += o.residual2, radius2 += o.radius2;
   }
-  r.iterations = o.max_iterations;
-  return r;
+};
+
+constexpr int kChunks = 64;
+
+template <class PerPoint>
+NormalEquations accumulate(std::size_t n, int threads, PerPoint&& per_point) {
+  std::array<NormalEquations, kChunks> chunks;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (int c = 0; c < kChunks; ++c)
+    for (std::size_t i = n * std::size_t(c) / kChunks; i < n * std::size_t(c + 1) / kChunks; ++i)
+      per_point(i, chunks[std::size_t(c)]);
+  NormalEquations total;
+  for (const auto& c : chunks) total.add(c);
+  return total;
+}
+
+struct Fit {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  bool converged = false;
+  int iterations = 0;
+  std::size_t pairs = 0;
+  double cost = INFINITY;  // mean kernel cost per source point, unpaired ones saturated
+};
+
+Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
+         const PointIndex& index, const Eigen::Isometry3d& start, const RegistrationOptions& o,
+         int threads) {
+  Fit fit;
+  fit.transform = start;
+  double distance = o.max_distance_m;
+  int in_stage = 0;
+  while (fit.iterations < o.max_iterations) {
+    ++fit.iterations;
+    const Eigen::Matrix3d r = fit.transform.linear();
+    const float limit2 = float(distance * distance);
+    const double c2 = o.kernel_sigmas * o.kernel_sigmas;
+    const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
+      const Eigen::Vector3d q = fit.transform * source[i].p;
+      const auto hit = index.nearest(q.cast<float>(), limit2);
+      if (hit.index < 0) {
+        sum.residual2 += c2;
+        return;
+      }
+      const Surfel& t = target[std::size_t(hit.index)];
+      const Eigen::Vector3d e = t.p - q;
+      const Eigen::Matrix3d info = (t.cov + r * source[i].cov * r.transpose()).inverse();
+      const double m2 = e.dot(info * e);
+      sum.residual2 += c2 * m2 / (c2 + m2);
+      const double w = 1.0 / ((1.0 + m2 / c2) * (1.0 + m2 / c2));
+      Eigen::Matrix<double, 3, 6> j;
+      j << skew(q), -Eigen::Matrix3d::Identity();
+      const Eigen::Matrix<double, 6, 3> jt_info = w * j.transpose() * info;
+      sum.h += jt_info * j;
+      sum.g += jt_info * e;
+      ++sum.pairs;
+    });
+    fit.pairs = eq.pairs;
+    fit.cost = eq.residual2 / double(std::max<std::size_t>(source.size(), 1));
+    if (eq.pairs < 6) return fit;
+    const double damping = 1e-9 * eq.h.trace();
+    const Vector6d step = -(eq.h + damping * Matrix6d::Identity()).ldlt().solve(eq.g);
+    if (!step.allFinite()) return fit;
+    fit.transform = exp(step) * fit.transform;
+    // A stage ends when its steps move points by a small share of its
+    // pairing distance, or after a third of the iterations; the last one
+    // when they are negligible.
+    const bool last = distance <= o.min_distance_m;
+    const double tolerance = last ? o.min_step : 1e-3 * distance;
+    ++in_stage;
+    if (step.head<3>().norm() * 10 < tolerance && step.tail<3>().norm() < tolerance) {
+      if (last) {
+        fit.converged = true;
+        return fit;
+      }
+    } else if (last || in_stage < o.max_iterations / 3) {
+      continue;
+    }
+    distance = std::max(o.min_distance_m, distance / 2);
+    in_stage = 0;
+  }
+  return fit;
+}
+
+std::string axisName(const Eigen::Vector3d& v, const char* const names[3]) {
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(v[a]) >= 0.9 * v.norm()) return names[a];
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f)", v.x(), v.y(), v.z());
+  return std::string(names[3]) + " " + text;
+}
+
+// Partners, residual and the conditioning of the point-to-plane problem at
+// the fit; `frame` turns the working frame's directions into the target's.
+RegistrationQuality judge(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
+                          const PointIndex& index, const Fit& fit, const Eigen::Isometry3d& frame,
+                          double agreement, const RegistrationOptions& o, int threads) {
+  RegistrationQuality q;
+  q.agreement = agreement;
+  const float limit2 = float(o.partner_distance_m * o.partner_distance_m);
+  const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
+    const Eigen::Vector3d p = fit.transform * source[i].p;
+    const auto hit = index.nearest(p.cast<float>(), limit2);
+    if (hit.index < 0) return;
+    const Surfel& t = target[std::size_t(hit.index)];
+    const double d = t.normal.dot(p - t.p);
+    if (std::abs(d) > o.partner_plane_m) return;
+    Vector6d j;
+    j << p.cross(t.normal), t.normal;
+    sum.h += j * j.transpose();
+    sum.residual2 += d * d;
+    sum.radius2 += p.squaredNorm();
+    ++sum.pairs;
+  });
+  q.partners = int(eq.pairs);
+  q.overlap = source.empty() ? 0.0 : double(eq.pairs) / double(source.size());
+  char why[200];
+  if (eq.pairs < 30 || q.overlap < o.min_overlap) {
+    q.verdict = Verdict::kNoOverlap;
+    std::snprintf(why, sizeof why,
+                  "%.0f %% of the source's points have a partner in the target; at least "
+                  "%.0f %% needed",
+                  100 * q.overlap, 100 * o.min_overlap);
+    q.reason = why;
+    return q;
+  }
+  if (o.min_agreement > 0 && !(agreement >= o.min_agreement)) {
+    q.verdict = Verdict::kNoOverlap;
+    std::snprintf(why, sizeof why,
+                  "the clouds' heights agree within %.0f mm on %.0f %% of the ground they share; "
+                  "at least %.0f %% for the same ground",
+                  1000 * o.agreement_tolerance_m, 100 * agreement, 100 * o.min_agreement);
+    q.reason = why;
+    return q;
+  }
+  q.rms_m = std::sqrt(eq.residual2 / double(eq.pairs));
+  const double radius = std::max(std::sqrt(eq.radius2 / double(eq.pairs)), 1e-3);
+  // Rotations scaled to the motion of a point at the clouds' radius.
+  Vector6d scale;
+  scale << Eigen::Vector3d::Constant(1 / radius), Eigen::Vector3d::Ones();
+  const Matrix6d h = scale.asDiagonal() * eq.h * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> es(h);
+  const double noise = std::max(q.rms_m, o.sigma_floor_m);
+  const double weakest = es.eigenvalues()[0];
+  q.weakest_sigma_m = weakest > 0 ? noise / std::sqrt(weakest) : INFINITY;
+  const Vector6d u = es.eigenvectors().col(0);
+  q.weakest_rotation = frame.linear() * u.head<3>();
+  q.weakest_translation = frame.linear() * u.tail<3>();
+  static const char* const kTranslations[] = {"x", "y", "z", "translation"};
+  static const char* const kRotations[] = {"roll", "pitch", "yaw", "rotation"};
+  q.weakest_axis = q.weakest_translation.squaredNorm() >= 0.5
+                       ? axisName(q.weakest_translation, kTranslations)
+                       : axisName(q.weakest_rotation, kRotations);
+  if (weakest > 0 && es.eigenvalues()[0] / es.eigenvalues()[5] > 1e-12) {
+    const Matrix6d cov = noise * noise * h.inverse();
+    Eigen::Matrix3d rot = cov.topLeftCorner<3, 3>() / (radius * radius);
+    Eigen::Matrix3d trans = cov.bottomRightCorner<3, 3>();
+    rot = frame.linear() * rot * frame.linear().transpose();
+    trans = frame.linear() * trans * frame.linear().transpose();
+    q.sigma << trans.diagonal().cwiseSqrt(), rot.diagonal().cwiseSqrt();
+  } else {
+    q.sigma.setConstant(INFINITY);
+  }
+  if (q.weakest_sigma_m > o.degenerate_sigma_m) {
+    q.verdict = Verdict::kDegenerate;
+    std::snprintf(why, sizeof why, "the ground does not hold the fit along %s (+-%.1f mm)",
+                  q.weakest_axis.c_str(), 1000 * std::min(q.weakest_sigma_m, 1e9));
+  } else if (!fit.converged) {
+    q.verdict = Verdict::kDoubtful;
+    std::snprintf(why, sizeof why, "did not settle in %d iterations", fit.iterations);
+  } else if (q.overlap < o.trusted_overlap) {
+    q.verdict = Verdict::kDoubtful;
+    std::snprintf(why, sizeof why, "only %.0f %% of the source's points have a partner",
+                  100 * q.overlap);
+  } else if (q.rms_m > o.max_rms_m) {
+    q.verdict = Verdict::kDoubtful;
+    std::snprintf(why, sizeof why, "residual %.1f mm over the partners", 1000 * q.rms_m);
+  } else if (q.weakest_sigma_m > o.doubtful_sigma_m) {
+    q.verdict = Verdict::kDoubtful;
+    std::snprintf(why, sizeof why, "loosely held along %s (+-%.1f mm)", q.weakest_axis.c_str(),
+                  1000 * q.weakest_sigma_m);
+  } else {
+    q.verdict = Verdict::kTrusted;
+    why[0] = 0;
+  }
+  q.reason = why;
+  return q;
+}
+
+std::vector<Surfel> prepare(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
+                            const RegistrationOptions& o, int threads, const char* which) {
+  for (const auto& p : cloud)
+    if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
+  const auto means = voxelMeans(cloud, to_frame, o.voxel_m);
+  const PointIndex index(asFloat(means));
+  auto out = surfels(means, index, o, threads);
+  if (out.size() < 10)
+    throw std::invalid_argument(std::string("registration: the ") + which + " has " +
+                                std::to_string(out.size()) +
+                                " points with neighbours after thinning; at least 10 needed");
+  return out;
 }
 
 }  // namespace
 
-Registration registerIcp(const Cloud& source, const Cloud& target, const Eigen::Isometry3d& initial,
-                         const IcpOptions& o) {
+Registration registerClouds(const Cloud& source, const Cloud& target,
+                            const Eigen::Isometry3d& initial, const RegistrationOptions& o) {
   validate(o);
   if (!initial.matrix().allFinite())
     throw std::invalid_argument("registration: the initial transform is not finite");
-  return icp(prepare(source, o.voxel_m, o.normal_radius_m, "source"),
-             prepare(target, o.voxel_m, o.normal_radius_m, "target"), initial, o);
+  if (source.size() < 10 || target.size() < 10)
+    throw std::invalid_argument("registration: a cloud has fewer than 10 points");
+  for (const auto& p : target)
+    if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  // Everything happens in the target's principal frame: thinning, the
+  // height search (its z is across the ground) and GICP.
+  const Eigen::Isometry3d frame = principalFrame(target);
+  const auto fixed = prepare(target, frame.inverse(), o, threads, "target");
+  const auto placed = prepare(source, frame.inverse() * initial, o, threads, "source");
+  const auto moving = sparser(placed, o.source_voxel_m);
+  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  if (o.search_heights) {
+    std::vector<Eigen::Vector3d> s, t;
+    for (const auto& x : placed) s.push_back(x.p);
+    for (const auto& x : fixed) t.push_back(x.p);
+    start = searchHeights(s, t, o.search);
+  }
+  std::vector<Eigen::Vector3f> target_points;
+  for (const auto& s : fixed) target_points.push_back(s.p.cast<float>());
+  const PointIndex index(std::move(target_points));
+  // From the search's placement and from the guess itself: the search
+  // brings far guesses in, but on ground that holds a shift only loosely it
+  // can leave a near guess worse off; the lower kernel cost wins.
+  // Start from the search's placement or from the guess, whichever fits
+  // better: on ground that holds a shift only loosely the search can leave
+  // a near guess worse off.
+  RegistrationOptions coarse = o;
+  coarse.max_iterations = 1;
+  if (o.search_heights &&
+      gicp(moving, fixed, index, Eigen::Isometry3d::Identity(), coarse, threads).cost <
+          gicp(moving, fixed, index, start, coarse, threads).cost)
+    start = Eigen::Isometry3d::Identity();
+  // The sparser source first, then every thinned point from there: fewer
+  // points to move while the fit is far, all of them to finish.
+  coarse.max_iterations = o.max_iterations;
+  coarse.min_step = 3 * o.min_step;
+  Fit fit = gicp(moving, fixed, index, start, coarse, threads);
+  const int first = fit.iterations;
+  fit = gicp(placed, fixed, index, fit.transform, o, threads);
+  fit.iterations += first;
+  Registration r;
+  r.transform = frame * fit.transform * frame.inverse() * initial;
+  r.converged = fit.converged;
+  r.iterations = fit.iterations;
+  r.pairs = fit.pairs;
+  std::vector<Eigen::Vector3d> moved, heights;
+  for (const auto& x : placed) moved.push_back(fit.transform * x.p);
+  for (const auto& x : fixed) heights.push_back(x.p);
+  const double agreement = o.min_agreement > 0 ? heightAgreement(moved, heights, o.search.cell_m,
+                                                                 o.agreement_tolerance_m)
+                                               : std::numeric_limits<double>::quiet_NaN();
+  r.quality = judge(moving, fixed, index, fit, frame, agreement, o, threads);
+  r.rms_m = r.quality.rms_m;
+  return r;
 }
 
 }  // namespace ambler::mapping

@@ -1,42 +1,95 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
+
+#include "mapping/HeightSearch.h"
 
 namespace ambler::mapping {
 
 using Cloud = std::vector<Eigen::Vector3d>;
 
-// bakambu-csa §2: ICP whose correspondences must agree in surface normal
-// and in curvature change, not only be nearest (the paper's variant), on
-// voxel-thinned clouds, point-to-plane steps. Pairs farther apart than
-// three times the median are dropped each iteration: where two views do
-// not overlap, points pair with the other cloud's edge and hold it back.
-struct IcpOptions {
-  double voxel_m = 0.07;             // thinning of both clouds (docs/mapping.md)
-  double normal_radius_m = 0.45;     // neighbourhood of the normals and curvature
-  double max_distance_m = 1.0;       // pairs farther apart are not matched
-  double max_normal_angle_deg = 20;  // nor pairs whose normals differ more
-  double max_curvature_change = 0.05;
-  int max_iterations = 60;
-  double min_step_m = 1e-4;  // a step moving no point more than this ends it
+// Registration of two scans of the ground (bakambu-csa §2): a search over
+// heights brings the source within centimetres, then generalized ICP
+// (Segal, Haehnel & Thrun 2009, plane-to-plane) finishes, on a sparser
+// source first and then on every thinned point, each pair weighted by a
+// Geman-McClure kernel on its Mahalanobis distance. The work is done in a
+// frame set by the target itself (its centroid and principal axes), so the
+// result does not depend on the frame the clouds come in.
+struct RegistrationOptions {
+  double voxel_m = 0.1;            // thinning of both clouds: one mean point per voxel
+  double source_voxel_m = 0.2;     // of those, one per voxel this size is moved first
+  int neighbours = 20;             // of a point, for its covariance
+  double min_thickness_m = 0.001;  // a covariance's standard deviation across the surface
+  // A search over heights (HeightSearch.h) first: for terrain scans, off
+  // for clouds whose z is not across the ground or too sparse to grid.
+  bool search_heights = true;
+  HeightSearchOptions search;
+  double max_distance_m = 0.3;  // pairing distance of the first stage; halved per stage
+  double min_distance_m = 0.3;  // of the last stage
+  double kernel_sigmas = 3.0;   // Geman-McClure scale, in Mahalanobis distance
+  int max_iterations = 60;      // over all stages, for each of the two passes
+  double min_step = 1e-4;       // [m; rad x 10]: a smaller update ends the last stage
+  int threads = 0;              // 0: all the machine's cores
+  // The verdict's limits (RegistrationQuality).
+  double partner_distance_m = 0.15;  // a source point with a target point this near
+  double partner_plane_m = 0.03;     // and this near its surface has a partner
+  double min_overlap = 0.15;         // of source points with a partner, below: no overlap
+  double trusted_overlap = 0.5;      // below: doubtful
+  // Of the source's height cells over the target's, the share within the
+  // tolerance of the target's heights: clouds of different ground stay
+  // below the minimum however they are placed (no overlap).
+  double agreement_tolerance_m = 0.05;
+  double min_agreement = 0.8;
+  double max_rms_m = 0.01;  // point-to-plane, over partners; above: doubtful
+  // Standard deviation of the fit along its weakest direction (rotations as
+  // the motion of a point at the clouds' radius), from the point-to-plane
+  // normal equations over the partners and their residual.
+  double sigma_floor_m = 0.004;       // the residual is taken as no less than this
+  double degenerate_sigma_m = 0.006;  // above: degenerate along that direction
+  double doubtful_sigma_m = 0.002;    // above: doubtful
 };
 
 // Throws std::invalid_argument naming the first option out of range.
-void validate(const IcpOptions& options);
+void validate(const RegistrationOptions& options);
+
+enum class Verdict { kTrusted, kDoubtful, kDegenerate, kNoOverlap };
+// "trusted", "doubtful", "degenerate", "no overlap".
+const char* verdictName(Verdict verdict);
+
+// What the result is worth, from the clouds alone (no truth).
+struct RegistrationQuality {
+  Verdict verdict = Verdict::kNoOverlap;
+  std::string reason;    // why not trusted; empty when trusted
+  double overlap = 0.0;  // share of the moved source points with a partner
+  int partners = 0;
+  double agreement = 0.0;  // share of the source's cells within 5 cm of the target's heights
+  double rms_m = 0.0;      // point-to-plane over the partners
+  // The fit's weakest direction and its standard deviation [m; rotations
+  // at the clouds' radius], as a motion in the target's frame.
+  double weakest_sigma_m = 0.0;
+  Eigen::Vector3d weakest_translation = Eigen::Vector3d::Zero();  // its translation part
+  Eigen::Vector3d weakest_rotation = Eigen::Vector3d::Zero();     // its rotation axis part
+  std::string weakest_axis;  // "x", "y", "z", "roll", "pitch", "yaw", or mixed
+  // Per axis of the target's frame [m, rad]: x, y, z, roll, pitch, yaw.
+  Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Zero();
+};
 
 struct Registration {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // source frame -> target frame
   bool converged = false;
   int iterations = 0;
-  std::size_t pairs = 0;  // correspondences kept in the last iteration
-  double rms_m = 0.0;     // point-to-plane, over those pairs
+  std::size_t pairs = 0;  // pairs weighed in the last iteration
+  double rms_m = 0.0;     // point-to-plane over the partners (quality.rms_m)
+  RegistrationQuality quality;
 };
 
 // Aligns `source` to `target` from `initial` (e.g. dead reckoning). Throws
 // std::invalid_argument for clouds too small to register or non-finite
 // input.
-Registration registerIcp(const Cloud& source, const Cloud& target, const Eigen::Isometry3d& initial,
-                         const IcpOptions& options = {});
+Registration registerClouds(const Cloud& source, const Cloud& target,
+                            const Eigen::Isometry3d& initial,
+                            const RegistrationOptions& options = {});
 
 }  // namespace ambler::mapping

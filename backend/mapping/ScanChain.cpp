@@ -4,6 +4,10 @@
 
 namespace ambler::mapping {
 
+bool ScanChain::applies(const Registration& r) {
+  return r.quality.verdict == Verdict::kTrusted || r.quality.verdict == Verdict::kDoubtful;
+}
+
 void ScanChain::add(Cloud scan) { waiting_.push_back(std::move(scan)); }
 
 std::optional<ScanChain::Job> ScanChain::next() {
@@ -22,7 +26,8 @@ std::optional<ScanChain::Job> ScanChain::next() {
 void ScanChain::finish(const Registration& registration) {
   if (!in_flight_) return;  // cleared while it ran
   last_ = registration;
-  for (auto& p : *in_flight_) p = registration.transform * p;
+  if (applies(registration))
+    for (auto& p : *in_flight_) p = registration.transform * p;
   registered_.push_back(std::move(*in_flight_));
   in_flight_.reset();
 }
@@ -40,9 +45,9 @@ Cloud ScanChain::merged() const {
   return all;
 }
 
-Registration ScanChain::run(const Job& job, const IcpOptions& options) {
+Registration ScanChain::run(const Job& job, const RegistrationOptions& options) {
   try {
-    return registerIcp(job.source, job.target, Eigen::Isometry3d::Identity(), options);
+    return registerClouds(job.source, job.target, Eigen::Isometry3d::Identity(), options);
   } catch (const std::invalid_argument&) {
     return {};
   }

@@ -23,10 +23,14 @@ class ScanChain {
   // The next registration to run, once none is under way; a first scan is
   // taken as the reference at once. None when nothing waits.
   std::optional<Job> next();
-  // The result of the job next() gave: the scan is moved by its transform
-  // and joins the chain. A failed registration (Registration{}) keeps it
-  // where dead reckoning put it.
+  // The result of the job next() gave: the scan joins the chain, moved by
+  // the transform when the verdict lets it (applies); otherwise, and for a
+  // registration that could not run (Registration{}), where dead reckoning
+  // put it. The caller shows the verdict either way.
   void finish(const Registration& registration);
+  // Trusted and doubtful corrections are applied; degenerate ones and
+  // clouds that do not overlap are not.
+  static bool applies(const Registration& registration);
   void clear();  // a job under way finishes into nothing
 
   bool busy() const { return in_flight_.has_value(); }
@@ -39,7 +43,7 @@ class ScanChain {
   // Runs a job: ICP from the identity (the scans are already in the world
   // frame by dead reckoning); a registration that cannot run (too few
   // points) gives the identity, not converged.
-  static Registration run(const Job& job, const IcpOptions& options = {});
+  static Registration run(const Job& job, const RegistrationOptions& options = {});
 
  private:
   std::deque<Cloud> waiting_;

@@ -12,6 +12,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
+
+#include <Eigen/Core>
 
 #include "TempDir.h"
 #include "io/Tiff.h"
@@ -195,6 +198,45 @@ TEST(Cli, RegisterAlignsTwoViewsAndLocalizesAScanInTheModel) {
   const auto bad = runCli("register " + b + "/cloud.pcd " + a + "/cloud.pcd --initial 1,2,x,4");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("--initial"), std::string::npos) << bad.out;
+}
+
+// A pair of noise-free scans from sim-pairs, in the world frame, from the
+// guess it gives (six numbers turning about the source's scanner): within
+// 1 % of the distance at that scanner, with a verdict. A pair of two
+// different terrains is refused: exit 1, saying so.
+TEST(Cli, SimPairsRegisterFromAFullGuessAndRefuseTwoDifferentTerrains) {
+  TempDir dir;
+  const auto out = (dir / "pairs").string();
+  const auto sim = runCli("sim-pairs --tuning --count 1 --foreign 1 --noise 0 --out " + out);
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  std::ifstream file(out + "/pairs.json");
+  const auto pairs = nlohmann::json::parse(file)["pairs"];
+  ASSERT_EQ(pairs.size(), 2u);
+  const auto& same = pairs[0]["world"];
+  const auto run =
+      runCli("register " + same["source"].get<std::string>() + " " +
+             same["target"].get<std::string>() + " --initial " +
+             same["initial"].get<std::string>() + " --about " + same["about"].get<std::string>());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto r = nlohmann::json::parse(run.out);
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) m(i, j) = r["transform"][i][j].get<double>();
+  Eigen::Vector4d scanner(0, 0, 0, 1);
+  std::istringstream about(same["about"].get<std::string>());
+  char comma = 0;
+  about >> scanner[0] >> comma >> scanner[1] >> comma >> scanner[2];
+  // The truth is the identity: the scanner stays where it is.
+  EXPECT_LT((m * scanner - scanner).norm(), 0.01 * pairs[0]["distance_m"].get<double>());
+  EXPECT_NE(r["quality"]["verdict"], "no overlap");
+  EXPECT_GT(r["ms"].get<double>(), r["read_ms"].get<double>());
+
+  const auto& other = pairs[1]["levelled"];
+  const auto refused = runCli("register " + other["source"].get<std::string>() + " " +
+                              other["target"].get<std::string>() + " --initial " +
+                              other["initial"].get<std::string>());
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.out.find("do not overlap"), std::string::npos) << refused.out;
 }
 
 // Real terrain (USGS's Jacksboro fault DEM, Debian's python-matplotlib-data):

@@ -24,7 +24,7 @@ Eigen::Isometry3d perturbed(const Eigen::Isometry3d& t, double metres, double de
 TEST(Registration, IcpAlignsScansFromTwoViewpoints) {
   const View a = viewFrom(1, {0, 0}, 0), b = viewFrom(1, {0.4, 2.5}, 6 * M_PI / 180);
   const Eigen::Isometry3d truth = a.pose.inverse() * b.pose;  // b's frame -> a's
-  const auto r = registerIcp(b.points, a.points, perturbed(truth, 0.3, 3.0));
+  const auto r = registerClouds(b.points, a.points, perturbed(truth, 0.3, 3.0));
   const double travelled = (b.pose.translation() - a.pose.translation()).norm();
   const double error = (r.transform.translation() - truth.translation()).norm();
   EXPECT_TRUE(r.converged);
@@ -33,25 +33,88 @@ TEST(Registration, IcpAlignsScansFromTwoViewpoints) {
             0.2 * M_PI / 180);
 }
 
+// The same pair given in each scanner's levelled frame and in the world
+// frame: the same answer to a millimetre and a hundredth of a degree.
+TEST(Registration, TheResultDoesNotDependOnTheFrameTheCloudsComeIn) {
+  const View a = viewFrom(1, {0, 0}, 0), b = viewFrom(1, {0.4, 2.5}, 6 * M_PI / 180);
+  const Eigen::Isometry3d truth = a.pose.inverse() * b.pose;
+  const Eigen::Isometry3d guess = perturbed(truth, 0.3, 3.0);
+  const auto local = registerClouds(b.points, a.points, guess);
+  Cloud source, target;
+  for (const auto& p : b.points) source.push_back(b.pose * p);
+  for (const auto& p : a.points) target.push_back(a.pose * p);
+  const auto world = registerClouds(source, target, a.pose * guess * b.pose.inverse());
+  // Both as a motion of b's scanner in the world.
+  const Eigen::Isometry3d from_local = a.pose * local.transform;
+  const Eigen::Isometry3d from_world = world.transform * b.pose;
+  EXPECT_LT((from_local.translation() - from_world.translation()).norm(), 0.001);
+  EXPECT_LT(Eigen::AngleAxisd(from_local.linear().transpose() * from_world.linear()).angle(),
+            0.01 * M_PI / 180);
+  EXPECT_EQ(local.quality.verdict, world.quality.verdict);
+}
+
+// Scans of two different courses are refused, however they fall.
+TEST(Registration, ScansOfTwoDifferentPlacesDoNotOverlap) {
+  const View a = viewFrom(1, {0, 0}, 0), b = viewFrom(3, {0.4, 2.5}, 0.1);
+  const auto r = registerClouds(b.points, a.points, a.pose.inverse() * b.pose);
+  EXPECT_EQ(r.quality.verdict, Verdict::kNoOverlap) << r.quality.reason;
+  EXPECT_FALSE(r.quality.reason.empty());
+}
+
+// Ground sampled on a 5 cm grid with heights z(x, y), seen twice with the
+// samples half a step apart.
+Cloud sampled(double (*z)(double, double), double offset) {
+  Cloud out;
+  for (double x = -5 + offset; x < 5; x += 0.05)
+    for (double y = -4 + offset; y < 4; y += 0.05) out.emplace_back(x, y, z(x, y));
+  return out;
+}
+
+// A plane holds only height, roll and pitch: degenerate, and the weakest
+// direction lies in what it leaves free (a shift along it, a turn about
+// its normal).
+TEST(Registration, FlatGroundIsFlaggedDegenerateInThePlane) {
+  auto plane = [](double x, double y) { return 0.1 * x - 0.05 * y; };
+  const auto r = registerClouds(sampled(plane, 0.025), sampled(plane, 0.0),
+                                Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.05, 0.02)));
+  EXPECT_EQ(r.quality.verdict, Verdict::kDegenerate) << r.quality.reason;
+  const Eigen::Vector3d normal = Eigen::Vector3d(-0.1, 0.05, 1).normalized();
+  EXPECT_LT(std::abs(r.quality.weakest_translation.dot(normal)), 0.05);
+  EXPECT_LT(r.quality.weakest_rotation.cross(normal).norm(), 0.05);
+}
+
+// A long straight ditch holds everything but the shift along it.
+TEST(Registration, ALongTrenchIsFlaggedDegenerateAlongItsAxis) {
+  auto ditch = [](double, double y) { return std::abs(y) < 0.6 ? std::abs(y) - 0.6 : 0.0; };
+  const auto r = registerClouds(sampled(ditch, 0.025), sampled(ditch, 0.0),
+                                Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.05, 0.02)));
+  EXPECT_EQ(r.quality.verdict, Verdict::kDegenerate) << r.quality.reason;
+  EXPECT_EQ(r.quality.weakest_axis, "x");
+  EXPECT_NE(r.quality.reason.find("along x"), std::string::npos) << r.quality.reason;
+  // Held across it: y to a millimetre.
+  EXPECT_NEAR(r.transform.translation().y(), 0.0, 0.001);
+}
+
 TEST(Registration, BadInputIsRefusedWithTheProblemNamed) {
   const Cloud few{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const View a = viewFrom(2, {0, 0}, 0);
   EXPECT_THROW(
       {
         try {
-          registerIcp(few, a.points, Eigen::Isometry3d::Identity());
+          registerClouds(few, a.points, Eigen::Isometry3d::Identity());
         } catch (const std::invalid_argument& e) {
-          EXPECT_NE(std::string(e.what()).find("the source has"), std::string::npos) << e.what();
+          EXPECT_NE(std::string(e.what()).find("fewer than 10 points"), std::string::npos)
+              << e.what();
           throw;
         }
       },
       std::invalid_argument);
   Cloud bad = a.points;
   bad[5].y() = NAN;
-  EXPECT_THROW(registerIcp(bad, a.points, Eigen::Isometry3d::Identity()), std::invalid_argument);
-  IcpOptions options;
+  EXPECT_THROW(registerClouds(bad, a.points, Eigen::Isometry3d::Identity()), std::invalid_argument);
+  RegistrationOptions options;
   options.voxel_m = 0;
-  EXPECT_THROW(registerIcp(a.points, a.points, Eigen::Isometry3d::Identity(), options),
+  EXPECT_THROW(registerClouds(a.points, a.points, Eigen::Isometry3d::Identity(), options),
                std::invalid_argument);
 }
 

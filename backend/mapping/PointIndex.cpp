@@ -1,0 +1,51 @@
+#include "mapping/PointIndex.h"
+
+#include <nanoflann.hpp>
+
+namespace ambler::mapping {
+
+namespace {
+
+struct Dataset {
+  const std::vector<Eigen::Vector3f>* points;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*points)[i][int(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Dataset>, Dataset, 3>;
+
+}  // namespace
+
+struct PointIndex::Tree {
+  Dataset dataset;
+  KdTree tree;
+  explicit Tree(const std::vector<Eigen::Vector3f>& points)
+      : dataset{&points}, tree(3, dataset, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+};
+
+PointIndex::PointIndex(std::vector<Eigen::Vector3f> points)
+    : points_(std::move(points)), tree_(std::make_unique<Tree>(points_)) {}
+
+PointIndex::~PointIndex() = default;
+
+PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2) const {
+  unsigned index = 0;
+  float d2 = 0;
+  if (points_.empty() || tree_->tree.knnSearch(query.data(), 1, &index, &d2) != 1 ||
+      d2 > max_distance2)
+    return {};
+  return {int(index), d2};
+}
+
+int PointIndex::nearest(const Eigen::Vector3f& query, int k, unsigned* indices,
+                        float* distance2) const {
+  if (points_.empty() || k <= 0) return 0;
+  return int(tree_->tree.knnSearch(query.data(), std::size_t(k), indices, distance2));
+}
+
+}  // namespace ambler::mapping
