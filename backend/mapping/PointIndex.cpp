@@ -34,11 +34,16 @@ PointIndex::PointIndex(std::vector<Eigen::Vector3f> points)
 PointIndex::~PointIndex() = default;
 
 PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2) const {
+  if (points_.empty()) return {};
+  // The result set starts with the limit as its worst distance, so that the
+  // tree prunes everything farther at once.
   unsigned index = 0;
   float d2 = 0;
-  if (points_.empty() || tree_->tree.knnSearch(query.data(), 1, &index, &d2) != 1 ||
-      d2 > max_distance2)
-    return {};
+  nanoflann::KNNResultSet<float, unsigned> result(1);
+  result.init(&index, &d2);
+  d2 = max_distance2;
+  tree_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  if (result.size() != 1 || d2 > max_distance2) return {};
   return {int(index), d2};
 }
 
