@@ -38,6 +38,13 @@ Box2 parseRegion(const std::string& text) {
 
 void printJson(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
 
+nlohmann::json matrixJson(const Eigen::Isometry3d& motion) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 4; ++i)
+    rows.push_back({motion(i, 0), motion(i, 1), motion(i, 2), motion(i, 3)});
+  return rows;
+}
+
 nlohmann::json distribution(std::vector<double> values) {
   if (values.empty()) return nullptr;
   std::sort(values.begin(), values.end());

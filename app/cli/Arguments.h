@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,5 +28,8 @@ nlohmann::json distribution(std::vector<double> values);
 
 // Prints `value` as one JSON document on stdout.
 void printJson(const nlohmann::json& value);
+
+// A rigid motion as its 4 x 4 matrix, row by row.
+nlohmann::json matrixJson(const Eigen::Isometry3d& motion);
 
 }  // namespace ambler::cli

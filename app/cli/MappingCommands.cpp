@@ -107,9 +107,7 @@ nlohmann::json evalMapping(const EvalMappingArgs& args) {
     global_ok += g && err < 0.5 && angleDeg(g->transform.linear(), a.pose.linear()) < 2.0;
     // The mesh of view a in the world and a path across it, from the
     // triangles nearest 5 m and 16 m ahead (the view has holes: shadows).
-    mapping::Cloud world;
-    for (const auto& p : a.points) world.push_back(a.pose * p);
-    const auto mesh = mapping::triangulate(world);
+    const auto mesh = mapping::triangulate(mapping::transformed(a.points, a.pose));
     triangles.push_back(double(mesh.size()));
     start = std::chrono::steady_clock::now();
     const double limit = mapping::PathOptions{}.max_slope_deg;
@@ -304,19 +302,13 @@ void runRegister(const RegisterArgs& args) {
     r = mapping::registerClouds(source, target, guess);
   }
   const double ms = millisecondsSince(start);
-  if (!args.out.empty()) {
-    mapping::Cloud moved;
-    for (const auto& p : source) moved.push_back(r.transform * p);
-    mapping::writeCloud(args.out, moved);
-  }
+  if (!args.out.empty()) mapping::writeCloud(args.out, mapping::transformed(source, r.transform));
   const Eigen::Matrix4d m = r.transform.matrix();
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < 4; ++i) rows.push_back({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
   const Eigen::Vector3d t = r.transform.translation();
   printJson({{"source", args.source},
              {"target", args.target},
              {"mode", args.global ? "global" : "icp"},
-             {"transform", rows},
+             {"transform", matrixJson(r.transform)},
              {"translation_m", {t.x(), t.y(), t.z()}},
              {"yaw_deg", std::atan2(m(1, 0), m(0, 0)) * 180 / M_PI},
              {"converged", r.converged},

@@ -8,18 +8,13 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
+#include "io/Json.h"
 #include "mapping/MappingFiles.h"
 #include "sim/ScanPairs.h"
 
 namespace ambler::cli {
 
 namespace {
-
-nlohmann::json matrixJson(const Eigen::Isometry3d& t) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < 4; ++i) rows.push_back({t(i, 0), t(i, 1), t(i, 2), t(i, 3)});
-  return rows;
-}
 
 // "X,Y,Z,ROLL,PITCH,YAW" (m, deg) of a guess that turns about `about`.
 std::string guessText(const Eigen::Isometry3d& guess, const Eigen::Vector3d& about) {
@@ -38,13 +33,6 @@ std::string pointText(const Eigen::Vector3d& p) {
   char text[100];
   std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g", p.x(), p.y(), p.z());
   return text;
-}
-
-mapping::Cloud moved(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& t) {
-  mapping::Cloud out;
-  out.reserve(points.size());
-  for (const auto& p : points) out.push_back(t * p);
-  return out;
 }
 
 struct SimPairsArgs {
@@ -76,8 +64,10 @@ void runSimPairs(const SimPairsArgs& a) {
     std::filesystem::create_directories(sub);
     mapping::writeCloud(sub / "source_level.pcd", pair.source);
     mapping::writeCloud(sub / "target_level.pcd", pair.target);
-    mapping::writeCloud(sub / "source_world.pcd", moved(pair.source, pair.source_to_world));
-    mapping::writeCloud(sub / "target_world.pcd", moved(pair.target, pair.target_to_world));
+    mapping::writeCloud(sub / "source_world.pcd",
+                        mapping::transformed(pair.source, pair.source_to_world));
+    mapping::writeCloud(sub / "target_world.pcd",
+                        mapping::transformed(pair.target, pair.target_to_world));
     const Eigen::Vector3d sensor = pair.source_to_world.translation();
     pairs.push_back({{"name", name},
                      {"family", sim::familyName(family)},
@@ -107,10 +97,7 @@ void runSimPairs(const SimPairsArgs& a) {
                         {"first_seed", first},
                         {"success_rule", "within 1 % of the distance and 0.5 deg"},
                         {"pairs", pairs}};
-  std::FILE* f = std::fopen((dir / "pairs.json").string().c_str(), "w");
-  if (f == nullptr) throw std::runtime_error("cannot write " + (dir / "pairs.json").string());
-  std::fputs(doc.dump(1).c_str(), f);
-  std::fclose(f);
+  io::writeJsonFile(dir / "pairs.json", doc);
   printJson({{"pairs", (dir / "pairs.json").string()},
              {"count", a.count},
              {"foreign", a.foreign},

@@ -30,20 +30,9 @@ struct HeightGrid {
     if (c < 0 || r < 0 || c >= cols || r >= rows) return std::numeric_limits<float>::quiet_NaN();
     return z[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
   }
-  // Bilinear between the cells' centres where all four are known, else the
-  // cell the point falls in.
-  float at(const Eigen::Vector2d& xy) const {
-    const double u = (xy.x() - x0) / cell - 0.5, v = (xy.y() - y0) / cell - 0.5;
-    const int c = int(std::floor(u)), r = int(std::floor(v));
-    const float fu = float(u - c), fv = float(v - r);
-    const float z00 = cellAt(c, r), z10 = cellAt(c + 1, r), z01 = cellAt(c, r + 1),
-                z11 = cellAt(c + 1, r + 1);
-    if (!std::isnan(z00 + z10 + z01 + z11))
-      return (1 - fv) * ((1 - fu) * z00 + fu * z10) + fv * ((1 - fu) * z01 + fu * z11);
-    return cellAt(int(std::floor(u + 0.5)), int(std::floor(v + 0.5)));
-  }
-  // Height and its gradient, bilinear; false where a corner is unknown.
-  bool slopeAt(const Eigen::Vector2d& xy, double& height, Eigen::Vector2d& gradient) const {
+  // Height (and its gradient) bilinear between the four cells' centres
+  // around xy; false where one of them is unknown.
+  bool bilinear(const Eigen::Vector2d& xy, double& height, Eigen::Vector2d* gradient) const {
     const double u = (xy.x() - x0) / cell - 0.5, v = (xy.y() - y0) / cell - 0.5;
     const int c = int(std::floor(u)), r = int(std::floor(v));
     const double fu = u - c, fv = v - r;
@@ -51,10 +40,17 @@ struct HeightGrid {
                  z11 = cellAt(c + 1, r + 1);
     if (std::isnan(z00 + z10 + z01 + z11)) return false;
     height = (1 - fv) * ((1 - fu) * z00 + fu * z10) + fv * ((1 - fu) * z01 + fu * z11);
-    gradient = Eigen::Vector2d((1 - fv) * (z10 - z00) + fv * (z11 - z01),
-                               (1 - fu) * (z01 - z00) + fu * (z11 - z10)) /
-               cell;
+    if (gradient)
+      *gradient = Eigen::Vector2d((1 - fv) * (z10 - z00) + fv * (z11 - z01),
+                                  (1 - fu) * (z01 - z00) + fu * (z11 - z10)) /
+                  cell;
     return true;
+  }
+  // Bilinear where it can be, else the height of the cell xy falls in.
+  float at(const Eigen::Vector2d& xy) const {
+    double height = 0;
+    if (bilinear(xy, height, nullptr)) return float(height);
+    return cellAt(int(std::floor((xy.x() - x0) / cell)), int(std::floor((xy.y() - y0) / cell)));
   }
 };
 
@@ -200,6 +196,16 @@ Placement bestAround(const std::vector<Eigen::Vector3d>& cells, const HeightGrid
   return best;
 }
 
+// The turn by the rotation vector `turn` about `pivot`, then `shift`.
+Eigen::Isometry3d turnAbout(const Eigen::Vector3d& turn, const Eigen::Vector3d& pivot,
+                            const Eigen::Vector3d& shift) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  if (turn.norm() > 0)
+    t.linear() = Eigen::AngleAxisd(turn.norm(), turn.normalized()).toRotationMatrix();
+  t.translation() = pivot - t.linear() * pivot + shift;
+  return t;
+}
+
 // Gauss-Newton on the cells' height differences, six degrees of freedom,
 // each difference weighted by a Geman-McClure kernel of the truncation
 // scale: the search's grid of shifts and turns made continuous.
@@ -215,7 +221,7 @@ Eigen::Isometry3d refineHeights(const std::vector<Eigen::Vector3d>& cells, const
       const Eigen::Vector3d p = motion * c;
       double zt = 0;
       Eigen::Vector2d grad;
-      if (!grid.slopeAt(p.head<2>(), zt, grad)) continue;
+      if (!grid.bilinear(p.head<2>(), zt, &grad)) continue;
       const double r = zt - p.z();
       const double w = 1.0 / std::pow(1.0 + r * r / (scale * scale), 2);
       const Eigen::Vector3d q = p - pivot;
@@ -231,13 +237,8 @@ Eigen::Isometry3d refineHeights(const std::vector<Eigen::Vector3d>& cells, const
     const Vector6d step =
         -(h + 1e-9 * h.trace() * Eigen::Matrix<double, 6, 6>::Identity()).ldlt().solve(g);
     if (!step.allFinite()) return motion;
-    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d turn = step.head<3>();
-    if (turn.norm() > 0)
-      delta.linear() = Eigen::AngleAxisd(turn.norm(), turn.normalized()).toRotationMatrix();
-    delta.translation() = pivot - delta.linear() * pivot + step.tail<3>();
-    motion = delta * motion;
-    if (turn.norm() < 1e-6 && step.tail<3>().norm() < 1e-5) break;
+    motion = turnAbout(step.head<3>(), pivot, step.tail<3>()) * motion;
+    if (step.head<3>().norm() < 1e-6 && step.tail<3>().norm() < 1e-5) break;
   }
   return motion;
 }
@@ -268,14 +269,9 @@ Eigen::Isometry3d searchHeights(const std::vector<Eigen::Vector3d>& source,
   // Turn and shift about the cells' centre, then the tilt as a small turn
   // about it: dz = a x + b y is the turn (b, -a, 0).
   const Eigen::Vector3d pivot(centre.x(), centre.y(), mean.z());
-  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
-  turn.linear() = Eigen::AngleAxisd(best.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  turn.translation() = pivot - turn.linear() * pivot + Eigen::Vector3d(best.dx, best.dy, 0);
-  const Eigen::Vector3d tilt(best.tilt.y(), -best.tilt.x(), 0);
-  Eigen::Isometry3d level = Eigen::Isometry3d::Identity();
-  if (tilt.norm() > 0)
-    level.linear() = Eigen::AngleAxisd(tilt.norm(), tilt.normalized()).toRotationMatrix();
-  level.translation() = pivot - level.linear() * pivot + Eigen::Vector3d(0, 0, best.tilt.z());
+  const Eigen::Isometry3d turn = turnAbout({0, 0, best.yaw}, pivot, {best.dx, best.dy, 0});
+  const Eigen::Isometry3d level =
+      turnAbout({best.tilt.y(), -best.tilt.x(), 0}, pivot, {0, 0, best.tilt.z()});
   return refineHeights(cells, grid, pivot, level * turn, o.truncation_m / 2);
 }
 

@@ -45,6 +45,13 @@ void validate(const RegistrationOptions& o) {
           "sigmas must satisfy 0 < doubtful_sigma_m <= degenerate_sigma_m");
 }
 
+Cloud transformed(const Cloud& cloud, const Eigen::Isometry3d& motion) {
+  Cloud out;
+  out.reserve(cloud.size());
+  for (const auto& p : cloud) out.push_back(motion * p);
+  return out;
+}
+
 const char* verdictName(Verdict verdict) {
   switch (verdict) {
     case Verdict::kTrusted:
@@ -139,14 +146,12 @@ std::vector<Eigen::Vector3f> asFloat(const std::vector<Eigen::Vector3d>& points)
 std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
                             const RegistrationOptions& o, int threads) {
   std::vector<Surfel> out(points.size());
-  std::vector<char> ok(points.size(), 0);
   const int k = o.neighbours;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
     std::array<unsigned, 100> idx{};
     std::array<float, 100> d2{};
     const int n = index.nearest(points[i].cast<float>(), k, idx.data(), d2.data());
-    if (n < 5) continue;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (int j = 0; j < n; ++j) mean += points[idx[std::size_t(j)]];
     mean /= n;
@@ -164,12 +169,8 @@ std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points, const Po
               o.min_thickness_m * o.min_thickness_m * across +
                   along * (Eigen::Matrix3d::Identity() - across),
               normal};
-    ok[i] = 1;
   }
-  std::vector<Surfel> kept;
-  for (std::size_t i = 0; i < out.size(); ++i)
-    if (ok[i]) kept.push_back(out[i]);
-  return kept;
+  return out;
 }
 
 // The source points moved: one per coarse voxel, the first met.
@@ -202,9 +203,11 @@ struct NormalEquations {
   Matrix6d h = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
   std::size_t pairs = 0;
+  double cost = 0;                    // kernel cost, unpaired points saturated (GICP)
   double residual2 = 0, radius2 = 0;  // sums over the pairs, for the verdict
   void add(const NormalEquations& o) {
-    h += o.h, g += o.g, pairs += o.pairs, residual2 += o.residual2, radius2 += o.radius2;
+    h += o.h, g += o.g, pairs += o.pairs, cost += o.cost, residual2 += o.residual2,
+        radius2 += o.radius2;
   }
 };
 
@@ -237,23 +240,23 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
   fit.transform = start;
   double distance = o.max_distance_m;
   int in_stage = 0;
+  const double c2 = o.kernel_sigmas * o.kernel_sigmas;
   while (fit.iterations < o.max_iterations) {
     ++fit.iterations;
     const Eigen::Matrix3d r = fit.transform.linear();
     const float limit2 = float(distance * distance);
-    const double c2 = o.kernel_sigmas * o.kernel_sigmas;
     const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
       const Eigen::Vector3d q = fit.transform * source[i].p;
       const auto hit = index.nearest(q.cast<float>(), limit2);
       if (hit.index < 0) {
-        sum.residual2 += c2;
+        sum.cost += c2;
         return;
       }
       const Surfel& t = target[std::size_t(hit.index)];
       const Eigen::Vector3d e = t.p - q;
       const Eigen::Matrix3d info = (t.cov + r * source[i].cov * r.transpose()).inverse();
       const double m2 = e.dot(info * e);
-      sum.residual2 += c2 * m2 / (c2 + m2);
+      sum.cost += c2 * m2 / (c2 + m2);
       const double w = 1.0 / ((1.0 + m2 / c2) * (1.0 + m2 / c2));
       Eigen::Matrix<double, 3, 6> j;
       j << skew(q), -Eigen::Matrix3d::Identity();
@@ -263,7 +266,7 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
       ++sum.pairs;
     });
     fit.pairs = eq.pairs;
-    fit.cost = eq.residual2 / double(std::max<std::size_t>(source.size(), 1));
+    fit.cost = eq.cost / double(std::max<std::size_t>(source.size(), 1));
     if (eq.pairs < 6) return fit;
     const double damping = 1e-9 * eq.h.trace();
     const Vector6d step = -(eq.h + damping * Matrix6d::Identity()).ldlt().solve(eq.g);
@@ -394,17 +397,23 @@ RegistrationQuality judge(const std::vector<Surfel>& source, const std::vector<S
   return q;
 }
 
-std::vector<Surfel> prepare(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
-                            const RegistrationOptions& o, int threads, const char* which) {
-  for (const auto& p : cloud)
-    if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
-  const auto means = voxelMeans(cloud, to_frame, o.voxel_m);
-  const PointIndex index(asFloat(means));
-  auto out = surfels(means, index, o, threads);
+// The cloud's voxel means in the working frame; at least 10 of them, so
+// that every point has neighbours enough for its covariance.
+std::vector<Eigen::Vector3d> thinned(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
+                                     const RegistrationOptions& o, const char* which) {
+  auto out = voxelMeans(cloud, to_frame, o.voxel_m);
   if (out.size() < 10)
     throw std::invalid_argument(std::string("registration: the ") + which + " has " +
                                 std::to_string(out.size()) +
-                                " points with neighbours after thinning; at least 10 needed");
+                                " points after thinning; at least 10 needed");
+  return out;
+}
+
+std::vector<Eigen::Vector3d> positions(const std::vector<Surfel>& surfels,
+                                       const Eigen::Isometry3d& motion) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(surfels.size());
+  for (const auto& s : surfels) out.push_back(motion * s.p);
   return out;
 }
 
@@ -417,28 +426,21 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
     throw std::invalid_argument("registration: the initial transform is not finite");
   if (source.size() < 10 || target.size() < 10)
     throw std::invalid_argument("registration: a cloud has fewer than 10 points");
-  for (const auto& p : target)
-    if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
+  for (const auto* cloud : {&source, &target})
+    for (const auto& p : *cloud)
+      if (!p.allFinite()) throw std::invalid_argument("registration: a point is not finite");
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   // Everything happens in the target's principal frame: thinning, the
   // height search (its z is across the ground) and GICP.
   const Eigen::Isometry3d frame = principalFrame(target);
-  const auto fixed = prepare(target, frame.inverse(), o, threads, "target");
-  const auto placed = prepare(source, frame.inverse() * initial, o, threads, "source");
+  const auto target_points = thinned(target, frame.inverse(), o, "target");
+  const PointIndex index(asFloat(target_points));
+  const auto fixed = surfels(target_points, index, o, threads);
+  const auto source_points = thinned(source, frame.inverse() * initial, o, "source");
+  const auto placed = surfels(source_points, PointIndex(asFloat(source_points)), o, threads);
   const auto moving = sparser(placed, o.source_voxel_m);
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
-  if (o.search_heights) {
-    std::vector<Eigen::Vector3d> s, t;
-    for (const auto& x : placed) s.push_back(x.p);
-    for (const auto& x : fixed) t.push_back(x.p);
-    start = searchHeights(s, t, o.search);
-  }
-  std::vector<Eigen::Vector3f> target_points;
-  for (const auto& s : fixed) target_points.push_back(s.p.cast<float>());
-  const PointIndex index(std::move(target_points));
-  // From the search's placement and from the guess itself: the search
-  // brings far guesses in, but on ground that holds a shift only loosely it
-  // can leave a near guess worse off; the lower kernel cost wins.
+  if (o.search_heights) start = searchHeights(source_points, target_points, o.search);
   // Start from the search's placement or from the guess, whichever fits
   // better: on ground that holds a shift only loosely the search can leave
   // a near guess worse off.
@@ -461,12 +463,10 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   r.converged = fit.converged;
   r.iterations = fit.iterations;
   r.pairs = fit.pairs;
-  std::vector<Eigen::Vector3d> moved, heights;
-  for (const auto& x : placed) moved.push_back(fit.transform * x.p);
-  for (const auto& x : fixed) heights.push_back(x.p);
-  const double agreement = o.min_agreement > 0 ? heightAgreement(moved, heights, o.search.cell_m,
-                                                                 o.agreement_tolerance_m)
-                                               : std::numeric_limits<double>::quiet_NaN();
+  const double agreement = o.min_agreement > 0
+                               ? heightAgreement(positions(placed, fit.transform), target_points,
+                                                 o.search.cell_m, o.agreement_tolerance_m)
+                               : std::numeric_limits<double>::quiet_NaN();
   r.quality = judge(moving, fixed, index, fit, frame, agreement, o, threads);
   r.rms_m = r.quality.rms_m;
   return r;

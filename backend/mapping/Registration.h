@@ -10,6 +10,9 @@ namespace ambler::mapping {
 
 using Cloud = std::vector<Eigen::Vector3d>;
 
+// Every point of `cloud` moved by `motion`.
+Cloud transformed(const Cloud& cloud, const Eigen::Isometry3d& motion);
+
 // Registration of two scans of the ground (bakambu-csa §2): a search over
 // heights brings the source within centimetres, then generalized ICP
 // (Segal, Haehnel & Thrun 2009, plane-to-plane) finishes, on a sparser

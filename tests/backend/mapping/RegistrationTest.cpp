@@ -40,10 +40,8 @@ TEST(Registration, TheResultDoesNotDependOnTheFrameTheCloudsComeIn) {
   const Eigen::Isometry3d truth = a.pose.inverse() * b.pose;
   const Eigen::Isometry3d guess = perturbed(truth, 0.3, 3.0);
   const auto local = registerClouds(b.points, a.points, guess);
-  Cloud source, target;
-  for (const auto& p : b.points) source.push_back(b.pose * p);
-  for (const auto& p : a.points) target.push_back(a.pose * p);
-  const auto world = registerClouds(source, target, a.pose * guess * b.pose.inverse());
+  const auto world = registerClouds(transformed(b.points, b.pose), transformed(a.points, a.pose),
+                                    a.pose * guess * b.pose.inverse());
   // Both as a motion of b's scanner in the world.
   const Eigen::Isometry3d from_local = a.pose * local.transform;
   const Eigen::Isometry3d from_world = world.transform * b.pose;
