@@ -65,6 +65,9 @@ void run(const Args& a) {
     if (const auto* ack = std::get_if<link::CommandAck>(&t.body); ack && !ack->accepted) ++refused;
     endpoint.publish(t);
   };
+  io.note = [](const std::string& what) {
+    std::cout << nlohmann::json{{"rover_log", what}, {"utc_s", link::utcNowS()}} << std::endl;
+  };
   io.stopping = [&] {
     return g_stop.load() ||
            (a.duration_s > 0 &&

@@ -218,7 +218,7 @@ void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double no
 }
 
 void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
-  if (ack.operator_id != signer_.operatorId()) return;
+  if (ack.operator_id != signer_.operatorId() || ack.console_id != signer_.consoleId()) return;
   if (resume_ && ack.sequence == *resume_) resume_.reset();
   if (!awaiting_ || ack.sequence != *awaiting_) {
     // Heartbeats and Resume are not awaited; only their refusals come back.

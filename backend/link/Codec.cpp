@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -11,7 +12,9 @@ namespace ambler::link {
 namespace {
 
 constexpr std::uint8_t kMagic[4] = {'A', 'M', 'B', 'L'};
-constexpr std::uint8_t kVersion = 2;  // 2: holding, GroundHeartbeat, Resume, striper
+// 2: holding, GroundHeartbeat, Resume, striper; 3: console ids, validity
+// windows, command authority. Version 2 is still read (mission logs).
+constexpr std::uint8_t kVersion = 3, kOldestReadable = 2;
 constexpr std::uint8_t kTelemetryKind = 0, kCommandKind = 1;
 constexpr std::size_t kMaxText = 256;        // operator ids, reasons
 constexpr std::size_t kMaxWaypoints = 64;    // per leg move
@@ -42,6 +45,7 @@ class Writer {
 class Reader {
  public:
   explicit Reader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  std::uint8_t version = kVersion;  // of the message being read
 
   template <typename T>
   T get(const char* what) {
@@ -107,7 +111,9 @@ std::size_t readHeader(Reader& r, std::uint8_t kind, std::size_t types) {
   r.getRaw(magic, 4, "magic");
   if (std::memcmp(magic, kMagic, 4) != 0) r.fail("not an Ambler message (bad magic)");
   const auto version = r.get<std::uint8_t>("version");
-  if (version != kVersion) r.fail("unsupported version " + std::to_string(version));
+  if (version < kOldestReadable || version > kVersion)
+    r.fail("unsupported version " + std::to_string(version));
+  r.version = version;
   const auto got_kind = r.get<std::uint8_t>("kind");
   if (got_kind != kind)
     r.fail(std::string("expected a ") + (kind == kCommandKind ? "command" : "telemetry") +
@@ -160,7 +166,10 @@ void getFloats(Reader& r, std::vector<float>& values, std::size_t n, const char*
 
 // ---- bodies ----
 
-void put(Writer& w, const Heartbeat& m) { w.put(m.count), w.put(m.holding), w.put(m.hold_reason); }
+void put(Writer& w, const Heartbeat& m) {
+  w.put(m.count), w.put(m.holding), w.put(m.hold_reason);
+  w.put(m.authority), w.put(m.authority_request);
+}
 void put(Writer& w, const LegState& m) {
   w.put(std::uint8_t(m.leg)), putJoints(w, m.joints), w.put(m.contact), w.put(m.force_n);
 }
@@ -168,7 +177,7 @@ void put(Writer& w, const BodyState& m) {
   w.put(m.x_m), w.put(m.y_m), w.put(m.z_m), w.put(m.heading_rad), w.put(m.moving);
 }
 void put(Writer& w, const CommandAck& m) {
-  w.put(m.operator_id), w.put(m.sequence), w.put(m.accepted), w.put(m.reason);
+  w.put(m.operator_id), w.put(m.console_id), w.put(m.sequence), w.put(m.accepted), w.put(m.reason);
 }
 void put(Writer& w, const sensor::RangeImage& m) {
   const auto& g = m.geometry;
@@ -202,6 +211,8 @@ void put(Writer& w, const AcquireScan& m) { w.put(std::uint8_t(m.sensor)); }
 void put(Writer&, const Hold&) {}
 void put(Writer&, const GroundHeartbeat&) {}
 void put(Writer&, const Resume&) {}
+void put(Writer&, const RequestAuthority&) {}
+void put(Writer& w, const HandOver& m) { w.put(m.console); }
 
 template <typename T>
 T get(Reader& r);
@@ -212,6 +223,10 @@ Heartbeat get(Reader& r) {
   m.count = r.get<std::uint64_t>("heartbeat count");
   m.holding = r.getBool("holding");
   m.hold_reason = r.getText("hold reason");
+  if (r.version >= 3) {
+    m.authority = r.getText("authority");
+    m.authority_request = r.getText("authority request");
+  }
   return m;
 }
 template <>
@@ -235,6 +250,7 @@ template <>
 CommandAck get(Reader& r) {
   CommandAck m;
   m.operator_id = r.getText("ack operator");
+  if (r.version >= 3) m.console_id = r.get<std::uint64_t>("ack console");
   m.sequence = r.get<std::uint64_t>("ack sequence");
   m.accepted = r.getBool("ack accepted");
   m.reason = r.getText("ack reason");
@@ -327,6 +343,14 @@ template <>
 Resume get(Reader&) {
   return {};
 }
+template <>
+RequestAuthority get(Reader&) {
+  return {};
+}
+template <>
+HandOver get(Reader& r) {
+  return {r.getText("hand-over console")};
+}
 
 // The variant alternative with index `type`, read from `r`.
 template <typename Variant, std::size_t I = 0>
@@ -341,7 +365,8 @@ Variant getBody(Reader& r, std::size_t type) {
 
 void putCommandContent(Writer& w, const Command& c) {
   writeHeader(w, kCommandKind, c.body.index());
-  w.put(c.rover_id), w.put(c.operator_id), w.put(c.sequence), w.put(c.time_s);
+  w.put(c.rover_id), w.put(c.operator_id), w.put(c.console_id), w.put(c.sequence);
+  w.put(c.time_s), w.put(c.valid_until_s);
   std::visit([&](const auto& body) { put(w, body); }, c.body);
 }
 
@@ -386,8 +411,10 @@ Command decodeCommand(std::span<const std::uint8_t> bytes) {
   Command c;
   c.rover_id = r.get<std::uint32_t>("rover id");
   c.operator_id = r.getText("operator id");
+  if (r.version >= 3) c.console_id = r.get<std::uint64_t>("console id");
   c.sequence = r.get<std::uint64_t>("sequence");
   c.time_s = r.getFinite("time");
+  if (r.version >= 3) c.valid_until_s = r.getFinite("valid until");
   c.body = getBody<CommandBody>(r, type);
   if (r.getBool("signature flag")) {
     c.hmac.emplace();
@@ -405,10 +432,22 @@ std::string typeName(const TelemetryBody& body) {
 }
 
 std::string typeName(const CommandBody& body) {
-  static const char* names[] = {"LegMove", "BodyMove",        "Grasp", "AcquireScan",
-                                "Hold",    "GroundHeartbeat", "Resume"};
+  static const char* names[] = {"LegMove", "BodyMove",        "Grasp",  "AcquireScan",
+                                "Hold",    "GroundHeartbeat", "Resume", "RequestAuthority",
+                                "HandOver"};
   static_assert(std::size(names) == std::variant_size_v<CommandBody>);
   return names[body.index()];
+}
+
+std::string consoleName(const std::string& operator_id, std::uint64_t console_id) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(console_id));
+  return operator_id + "@" + hex;
+}
+
+bool needsAuthority(const CommandBody& body) {
+  return !std::holds_alternative<Hold>(body) && !std::holds_alternative<GroundHeartbeat>(body) &&
+         !std::holds_alternative<RequestAuthority>(body) && !std::holds_alternative<HandOver>(body);
 }
 
 }  // namespace ambler::link

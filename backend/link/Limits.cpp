@@ -50,14 +50,11 @@ std::string check(const Grasp& m, const gait::RoverModel&, const gait::GaitOptio
   return {};
 }
 
-std::string check(const AcquireScan&, const gait::RoverModel&, const gait::GaitOptions&) {
+// Commands that move nothing have no limits.
+template <typename Body>
+std::string check(const Body&, const gait::RoverModel&, const gait::GaitOptions&) {
   return {};
 }
-std::string check(const Hold&, const gait::RoverModel&, const gait::GaitOptions&) { return {}; }
-std::string check(const GroundHeartbeat&, const gait::RoverModel&, const gait::GaitOptions&) {
-  return {};
-}
-std::string check(const Resume&, const gait::RoverModel&, const gait::GaitOptions&) { return {}; }
 
 }  // namespace
 

@@ -26,6 +26,10 @@ struct Heartbeat {
   std::uint64_t count = 0;
   bool holding = false;
   std::string hold_reason;  // empty unless holding
+  // The console that holds command authority ("alice@00c0ffee3f09a1c2",
+  // consoleName()) and one asking for it; empty: none.
+  std::string authority;
+  std::string authority_request;
 };
 
 // One leg as its encoders and force sensor report it.
@@ -46,6 +50,7 @@ struct BodyState {
 // The rover's answer to one command: accepted, or refused and why.
 struct CommandAck {
   std::string operator_id;
+  std::uint64_t console_id = 0;  // with the operator: whose command
   std::uint64_t sequence = 0;
   bool accepted = false;
   std::string reason;  // empty when accepted
@@ -102,21 +107,43 @@ struct GroundHeartbeat {};
 // End a hold; motion commands are accepted again.
 struct Resume {};
 
-using CommandBody =
-    std::variant<LegMove, BodyMove, Grasp, AcquireScan, Hold, GroundHeartbeat, Resume>;
+// Ask for command authority: granted at once when no console holds it,
+// else announced in the Heartbeat until the holder hands over.
+struct RequestAuthority {};
+
+// From the console holding authority: give it to the console whose
+// request is pending (the two ends of an explicit exchange).
+struct HandOver {
+  std::string console;  // consoleName() of the one asking
+};
+
+using CommandBody = std::variant<LegMove, BodyMove, Grasp, AcquireScan, Hold, GroundHeartbeat,
+                                 Resume, RequestAuthority, HandOver>;
 
 using Hmac = std::array<std::uint8_t, 32>;
 
 // A command with its provenance: which console's operator sent it, in
-// which order, signed over everything else (Signing.h).
+// which order, until when it may be carried out, signed over everything
+// else (Signing.h). Times are UTC seconds: ground and rover share a clock.
 struct Command {
   std::uint32_t rover_id = 0;
   std::string operator_id;
+  std::uint64_t console_id = 0;  // random per console session
   std::uint64_t sequence = 0;
-  double time_s = 0.0;  // ground clock when signed
+  double time_s = 0.0;         // when signed
+  double valid_until_s = 0.0;  // refused on board after this; 0: no window
   CommandBody body;
   std::optional<Hmac> hmac;  // none: unsigned
 };
+
+// "alice@00c0ffee3f09a1c2": an operator at one console, as acks, heartbeats and
+// logs name it.
+std::string consoleName(const std::string& operator_id, std::uint64_t console_id);
+
+// Commands that need command authority: everything but Hold (any
+// authenticated console may stop the rover), the console heartbeat and the
+// authority exchange itself.
+bool needsAuthority(const CommandBody& body);
 
 // Names as they appear in logs and summaries: "LegMove", "Heartbeat", ...
 std::string typeName(const TelemetryBody& body);

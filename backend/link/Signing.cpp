@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/Json.h"
@@ -104,26 +106,58 @@ Hmac hmacSha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t>
   return out;
 }
 
-CommandSigner::CommandSigner(OperatorKey key, std::uint64_t next_sequence)
-    : key_(std::move(key)), next_sequence_(next_sequence) {}
+double utcNowS() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+namespace {
+
+std::uint64_t randomConsoleId() {
+  std::uint64_t id = 0;
+  while (id == 0)
+    if (RAND_bytes(reinterpret_cast<unsigned char*>(&id), sizeof id) != 1)
+      throw std::runtime_error("OpenSSL could not generate a console id");
+  return id;
+}
+
+std::string seconds(double s) {
+  std::ostringstream out;
+  out.precision(s < 10 ? 2 : 1);
+  out << std::fixed << s << " s";
+  return out.str();
+}
+
+}  // namespace
+
+CommandSigner::CommandSigner(OperatorKey key, std::uint64_t next_sequence, SignerOptions options)
+    : key_(std::move(key)),
+      next_sequence_(next_sequence),
+      options_(std::move(options)),
+      console_id_(randomConsoleId()) {}
 
 void CommandSigner::sign(Command& command) {
   command.operator_id = key_.operator_id;
+  command.console_id = console_id_;
   command.sequence = next_sequence_++;
+  command.time_s = options_.clock();
+  command.valid_until_s = command.time_s + options_.validity_s;
   command.hmac = hmacSha256(key_.key, signedContent(command));
 }
 
-CommandVerifier::CommandVerifier(std::uint32_t rover_id, const std::vector<OperatorKey>& keys)
-    : rover_id_(rover_id) {
+std::string CommandSigner::console() const { return consoleName(key_.operator_id, console_id_); }
+
+CommandVerifier::CommandVerifier(std::uint32_t rover_id, const std::vector<OperatorKey>& keys,
+                                 VerifierOptions options)
+    : rover_id_(rover_id), options_(options) {
   for (const auto& k : keys) keys_[k.operator_id] = k.key;
 }
 
-Refusal CommandVerifier::check(const Command& c) {
-  std::string why = problem(c);
+Refusal CommandVerifier::check(const Command& c, double now_s) {
+  std::string why = problem(c, now_s);
   return why.empty() ? Refusal{} : Refusal::because(std::move(why));
 }
 
-std::string CommandVerifier::problem(const Command& c) {
+std::string CommandVerifier::problem(const Command& c, double now_s) {
   if (c.rover_id != rover_id_)
     return "addressed to rover " + std::to_string(c.rover_id) + ", this is rover " +
            std::to_string(rover_id_);
@@ -134,13 +168,30 @@ std::string CommandVerifier::problem(const Command& c) {
   if (CRYPTO_memcmp(expected.data(), c.hmac->data(), expected.size()) != 0)
     return "bad signature for operator \"" + c.operator_id + "\"";
   if (c.sequence == 0) return "sequence 0 (sequences start at 1)";
-  auto& last = last_sequence_[c.operator_id];
+  if (auto late = outsideWindow(c, now_s); !late.empty()) return late;
+  auto& last = last_sequence_[{c.operator_id, c.console_id}];
   if (c.sequence == last)
     return "replayed command: sequence " + std::to_string(c.sequence) + " already accepted";
   if (c.sequence < last)
     return "out of order: sequence " + std::to_string(c.sequence) + " after " +
            std::to_string(last);
   last = c.sequence;
+  return {};
+}
+
+std::string CommandVerifier::outsideWindow(const Command& c, double now_s) const {
+  if (started_s_ && c.time_s < *started_s_)
+    return "signed " + seconds(*started_s_ - c.time_s) +
+           " before this rover's link started (a command from before a restart)";
+  if (c.valid_until_s == 0.0) return "no validity window";
+  const double window = c.valid_until_s - c.time_s;
+  if (window <= 0.0 || window > options_.max_validity_s)
+    return "validity window of " + seconds(window) + " (0-" + seconds(options_.max_validity_s) +
+           " accepted)";
+  if (now_s > c.valid_until_s && !std::holds_alternative<Hold>(c.body))
+    return "arrived " + seconds(now_s - c.valid_until_s) +
+           " after its validity window closed (signed " + seconds(now_s - c.time_s) +
+           " ago, valid for " + seconds(window) + ")";
   return {};
 }
 

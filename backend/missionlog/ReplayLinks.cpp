@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "link/Codec.h"
+#include "link/Signing.h"
 
 namespace ambler::missionlog {
 
@@ -19,9 +20,7 @@ std::pair<std::size_t, int> kindOf(const link::Telemetry& t) {
 
 }  // namespace
 
-double groundClockS() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double groundClockS() { return link::utcNowS(); }
 
 std::uint64_t firstSequenceFromClock() { return std::uint64_t(groundClockS() * 1e6); }
 

@@ -28,7 +28,7 @@ std::string describeCommand(const link::CommandBody& body) {
 }
 
 void CommandTable::sent(double time_s, const link::Command& c) {
-  const Key key{c.operator_id, c.sequence};
+  const Key key{c.operator_id, c.console_id, c.sequence};
   if (std::holds_alternative<link::GroundHeartbeat>(c.body)) {
     heartbeats_[key] = {time_s, describeCommand(c.body)};
     return;
@@ -41,15 +41,22 @@ void CommandTable::received(double time_s, const link::Telemetry& message) {
   if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
     answer(time_s, *a);
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
-    if (h->holding == holding_) return;
-    holding_ = h->holding;
-    rows_.push_back(
-        {time_s, "rover", h->holding ? "holds" : "holds no longer", "", h->hold_reason});
+    if (h->holding != holding_) {
+      holding_ = h->holding;
+      rows_.push_back(
+          {time_s, "rover", h->holding ? "holds" : "holds no longer", "", h->hold_reason});
+    }
+    if (h->authority != authority_ || h->authority_request != authority_request_) {
+      authority_ = h->authority, authority_request_ = h->authority_request;
+      rows_.push_back({time_s, "rover", "command authority",
+                       authority_.empty() ? "none" : authority_,
+                       authority_request_.empty() ? "" : authority_request_ + " asks for it"});
+    }
   }
 }
 
 void CommandTable::answer(double time_s, const link::CommandAck& a) {
-  const Key key{a.operator_id, a.sequence};
+  const Key key{a.operator_id, a.console_id, a.sequence};
   const std::string outcome = a.accepted ? "accepted" : "refused";
   if (auto it = open_.find(key); it != open_.end()) {
     rows_[it->second].outcome = outcome, rows_[it->second].reason = a.reason;
@@ -58,7 +65,10 @@ void CommandTable::answer(double time_s, const link::CommandAck& a) {
     if (!a.accepted)
       rows_.push_back({h->second.first, a.operator_id, h->second.second, outcome, a.reason});
   } else {
-    rows_.push_back({time_s, "rover", "answer to an unknown command " + std::to_string(a.sequence),
+    // Another console's command, or one sent before this console came.
+    rows_.push_back({time_s, "rover",
+                     "answer to command " + std::to_string(a.sequence) + " of " +
+                         link::consoleName(a.operator_id, a.console_id),
                      outcome, a.reason});
   }
 }

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "link/Messages.h"
@@ -21,8 +22,9 @@ struct LogRow {
 };
 
 // The table as messages pass (live) or as a log is read (replay): each
-// command is answered in place by the acknowledgement with its operator
-// and sequence. Heartbeats the rover accepted are left out as noise.
+// command is answered in place by the acknowledgement with its operator,
+// console and sequence; changes of hold and command authority get rows. Heartbeats the rover
+// accepted are left out as noise.
 class CommandTable {
  public:
   void sent(double time_s, const link::Command& command);
@@ -37,11 +39,12 @@ class CommandTable {
  private:
   void answer(double time_s, const link::CommandAck& ack);
 
-  using Key = std::pair<std::string, std::uint64_t>;
+  using Key = std::tuple<std::string, std::uint64_t, std::uint64_t>;  // operator, console, sequence
   std::vector<LogRow> rows_;
   std::map<Key, std::size_t> open_;  // commands awaiting their answer
   std::map<Key, std::pair<double, std::string>> heartbeats_;
   bool holding_ = false;
+  std::string authority_, authority_request_;
 };
 
 // "LegMove leg 2, 3 waypoints", "BodyMove (0.000, 0.450) m, 0.000 deg", ...

@@ -4,11 +4,25 @@
 
 namespace ambler::rover {
 
+namespace {
+
+void noteOutcome(const link::Command& command, const std::vector<link::Telemetry>& out,
+                 SimulatedRover& rover, const std::function<void(const std::string&)>& note) {
+  for (const auto& t : out)
+    if (const auto* ack = std::get_if<link::CommandAck>(&t.body); ack && !ack->accepted)
+      note("refused " + link::typeName(command.body) + " " + std::to_string(command.sequence) +
+           " from " + link::consoleName(command.operator_id, command.console_id) + ": " +
+           ack->reason);
+  if (const auto change = rover.takeAuthorityChange(); !change.empty()) note(change);
+}
+
+}  // namespace
+
 void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_period,
                   const RoverLoopIo& io) {
   using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto now_s = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  // Commands are stamped and judged in UTC, and so is the telemetry.
+  const auto now_s = link::utcNowS;
   for (const auto& t : rover.state(now_s())) io.publish(t);
   auto next_heartbeat = Clock::now();
   while (!io.stopping()) {
@@ -20,9 +34,11 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
       const auto out = in.malformed.empty() ? rover.handle(in.command, now_s())
                                             : rover.refuse(in.command, in.malformed, now_s());
       if (io.handled) io.handled(in.command, rover);
+      if (io.note) noteOutcome(in.command, out, rover, io.note);
       for (const auto& t : out) io.publish(t);
     }
     for (const auto& t : rover.watchLink(now_s())) io.publish(t);
+    if (const auto lost = rover.takeAuthorityChange(); io.note && !lost.empty()) io.note(lost);
     if (Clock::now() >= next_heartbeat) {
       io.publish(rover.heartbeat(now_s()));
       next_heartbeat += heartbeat_period;

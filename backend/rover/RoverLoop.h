@@ -27,6 +27,9 @@ struct RoverLoopIo {
   std::function<bool()> stopping;
   // Optional: called after each command is handled, before its answer goes.
   std::function<void(const link::Command&, const SimulatedRover&)> handled;
+  // Optional: the rover's own log, a line per refused command (with the
+  // reason) and per change of command authority.
+  std::function<void(const std::string&)> note;
 };
 
 void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_period,

@@ -46,14 +46,17 @@ SimulatedRover::SimulatedRover(const SimulatedRoverConfig& config, SimulatedRove
       options_(std::move(options)),
       world_(makeWorld(config, options_)),
       odometry_(config.model, world_.rover().truth()),
-      verifier_(options_.rover_id, options_.operators) {}
+      verifier_(options_.rover_id, options_.operators) {
+  verifier_.startedAt(link::utcNowS());
+}
 
 link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) const {
   return {options_.rover_id, now_s, std::move(body)};
 }
 
 link::Telemetry SimulatedRover::heartbeat(double now_s) {
-  return message(now_s, link::Heartbeat{++heartbeats_, holding(), holding_});
+  return message(now_s, link::Heartbeat{++heartbeats_, holding(), holding_, authority_.holder(),
+                                        authority_.request()});
 }
 
 std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
@@ -65,6 +68,8 @@ std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
   why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
       << " s";
   holding_ = why.str();
+  if (authority_.held()) authority_change_ = authority_.holder() + " lost command authority";
+  authority_.lapse();
   return {heartbeat(now_s)};
 }
 
@@ -89,15 +94,25 @@ std::vector<link::Telemetry> SimulatedRover::report(
 
 std::vector<link::Telemetry> SimulatedRover::refuse(const link::Command& command,
                                                     const std::string& reason, double now_s) const {
-  return {message(now_s, link::CommandAck{command.operator_id, command.sequence, false, reason})};
+  return {message(now_s, link::CommandAck{command.operator_id, command.console_id, command.sequence,
+                                          false, reason})};
 }
 
 std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command, double now_s) {
-  if (const auto unverified = verifier_.check(command); unverified.refused())
+  if (const auto unverified = verifier_.check(command, now_s); unverified.refused())
     return refuse(command, unverified.why(), now_s);
-  std::string reason;
-  last_heard_s_ = now_s;
+  std::string change;
+  if (const auto not_in_command = authority_.admit(command, change); not_in_command.refused())
+    return refuse(command, not_in_command.why(), now_s);
+  // A watching console's heartbeats must not keep the rover going for a
+  // commanding console that died.
+  if (!authority_.held() ||
+      authority_.holder() == link::consoleName(command.operator_id, command.console_id))
+    last_heard_s_ = now_s;
+  // The next heartbeat announces it.
+  if (!change.empty()) authority_change_ = change;
   if (std::holds_alternative<link::GroundHeartbeat>(command.body)) return {};
+  std::string reason;
   const bool moves = std::holds_alternative<link::LegMove>(command.body) ||
                      std::holds_alternative<link::BodyMove>(command.body) ||
                      std::holds_alternative<link::Grasp>(command.body);
@@ -105,8 +120,9 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
   if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait).why();
   std::vector<link::Telemetry> changes;
   if (reason.empty()) reason = execute(command, now_s, changes);
-  std::vector<link::Telemetry> out{message(
-      now_s, link::CommandAck{command.operator_id, command.sequence, reason.empty(), reason})};
+  std::vector<link::Telemetry> out{
+      message(now_s, link::CommandAck{command.operator_id, command.console_id, command.sequence,
+                                      reason.empty(), reason})};
   out.insert(out.end(), changes.begin(), changes.end());
   return out;
 }
@@ -138,6 +154,9 @@ std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
     return {};
   }
   if (std::holds_alternative<link::Grasp>(body)) return "this rover has no manipulator";
+  if (std::holds_alternative<link::RequestAuthority>(body) ||
+      std::holds_alternative<link::HandOver>(body))
+    return {};
   if (std::holds_alternative<link::Hold>(body)) {
     // Every move completes before the next command is read, so holding is
     // refusing the next motion.

@@ -9,9 +9,11 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gait/DeadReckoning.h"
+#include "link/CommandAuthority.h"
 #include "link/Messages.h"
 #include "link/Signing.h"
 #include "sim/RoverWorld.h"
@@ -46,7 +48,8 @@ struct SimulatedRoverOptions {
   std::vector<link::OperatorKey> operators;
   Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
   // Hold on its own when no signed command (a GroundHeartbeat at least)
-  // has come for this long after the first; 0: never.
+  // has come from the console holding command authority for this long
+  // after the first; 0: never.
   double link_timeout_s = 3.0;
   // Wall seconds per simulated second: moves and scans take this long
   // (their modelled duration times it) before they are answered; 0: at once.
@@ -55,6 +58,7 @@ struct SimulatedRoverOptions {
 
 class SimulatedRover {
  public:
+  // Commands signed before this moment are refused (CommandVerifier::startedAt).
   SimulatedRover(const SimulatedRoverConfig& config, SimulatedRoverOptions options);
 
   // The acknowledgement first (a NACK with the reason, and nothing else, if
@@ -69,6 +73,10 @@ class SimulatedRover {
   // moment the ground has been silent for longer than the timeout.
   std::vector<link::Telemetry> watchLink(double now_s);
   bool holding() const { return !holding_.empty(); }
+  const link::CommandAuthority& authority() const { return authority_; }
+  // The last change of command authority ("bob@... took command
+  // authority"), for the rover's own log; empty when none since asked.
+  std::string takeAuthorityChange() { return std::exchange(authority_change_, {}); }
   // Every leg and the body, as the rover reports them now: the encoders'
   // readings and its own dead-reckoned body pose.
   std::vector<link::Telemetry> state(double now_s);
@@ -97,9 +105,11 @@ class SimulatedRover {
   sim::RoverWorld world_;
   gait::KinematicOdometry odometry_;
   link::CommandVerifier verifier_;
+  link::CommandAuthority authority_;
+  std::string authority_change_;
   std::uint64_t heartbeats_ = 0, scans_ = 0;
   std::string holding_;                 // why the rover holds; empty: it does not
-  std::optional<double> last_heard_s_;  // the last signed command
+  std::optional<double> last_heard_s_;  // the last command from the console in command
   sim::MoveReport last_move_;
   double busy_s_ = 0.0;
 };

@@ -62,8 +62,13 @@ void fillBody(const CommandBody& body, ambler_dds_CommandBody& out,
     out._d = ambler_dds_KIND_HOLD;
   } else if (std::holds_alternative<GroundHeartbeat>(body)) {
     out._d = ambler_dds_KIND_GROUND_HEARTBEAT;
-  } else {
+  } else if (std::holds_alternative<Resume>(body)) {
     out._d = ambler_dds_KIND_RESUME;
+  } else if (std::holds_alternative<RequestAuthority>(body)) {
+    out._d = ambler_dds_KIND_REQUEST_AUTHORITY;
+  } else {
+    out._d = ambler_dds_KIND_HAND_OVER;
+    out._u.hand_over = text(std::get<HandOver>(body).console);
   }
 }
 
@@ -94,6 +99,10 @@ CommandBody bodyFrom(const ambler_dds_CommandBody& b) {
       return GroundHeartbeat{};
     case ambler_dds_KIND_RESUME:
       return Resume{};
+    case ambler_dds_KIND_REQUEST_AUTHORITY:
+      return RequestAuthority{};
+    case ambler_dds_KIND_HAND_OVER:
+      return HandOver{b._u.hand_over ? b._u.hand_over : ""};
   }
   throw DecodeError("unknown command kind " + std::to_string(int(b._d)));
 }
@@ -103,8 +112,10 @@ Command headerOf(const ambler_dds_Command& s) {
   Command c;
   c.rover_id = s.rover_id;
   c.operator_id = s.operator_id ? s.operator_id : "";
+  c.console_id = s.console_id;
   c.sequence = s.sequence_number;
   c.time_s = s.time_s;
+  c.valid_until_s = s.valid_until_s;
   if (s.is_signed) {
     c.hmac.emplace();
     std::copy(std::begin(s.hmac), std::end(s.hmac), c.hmac->begin());
@@ -125,7 +136,13 @@ class TelemetryWriter {
         image_(image),
         striper_(striper) {}
   void operator()(const Telemetry& t, const Heartbeat& m) const {
-    const ambler_dds_Heartbeat s{t.rover_id, t.time_s, m.count, m.holding, text(m.hold_reason)};
+    const ambler_dds_Heartbeat s{t.rover_id,
+                                 t.time_s,
+                                 m.count,
+                                 m.holding,
+                                 text(m.hold_reason),
+                                 text(m.authority),
+                                 text(m.authority_request)};
     write(heartbeat_.get(), &s);
   }
   void operator()(const Telemetry& t, const LegState& m) const {
@@ -139,7 +156,7 @@ class TelemetryWriter {
     write(body_.get(), &s);
   }
   void operator()(const Telemetry& t, const CommandAck& m) const {
-    const ambler_dds_CommandAck s{t.rover_id, t.time_s,   text(m.operator_id),
+    const ambler_dds_CommandAck s{t.rover_id, t.time_s,   text(m.operator_id), m.console_id,
                                   m.sequence, m.accepted, text(m.reason)};
     write(ack_.get(), &s);
   }
@@ -178,7 +195,9 @@ class TelemetryWriter {
 
 Telemetry from(const ambler_dds_Heartbeat& s) {
   return {s.rover_id, s.time_s,
-          Heartbeat{s.count, s.holding, s.hold_reason ? s.hold_reason : std::string()}};
+          Heartbeat{s.count, s.holding, s.hold_reason ? s.hold_reason : std::string(),
+                    s.authority ? s.authority : std::string(),
+                    s.authority_request ? s.authority_request : std::string()}};
 }
 Telemetry from(const ambler_dds_LegState& s) {
   return {s.rover_id, s.time_s, LegState{s.leg, fromDds(s.joints), s.contact, s.force_n}};
@@ -188,8 +207,8 @@ Telemetry from(const ambler_dds_BodyState& s) {
 }
 Telemetry from(const ambler_dds_CommandAck& s) {
   return {s.rover_id, s.time_s,
-          CommandAck{s.operator_id ? s.operator_id : "", s.sequence_number, s.accepted,
-                     s.reason ? s.reason : ""}};
+          CommandAck{s.operator_id ? s.operator_id : "", s.console_id, s.sequence_number,
+                     s.accepted, s.reason ? s.reason : ""}};
 }
 Telemetry from(const ambler_dds_RangeImage& s) {
   sensor::RangeImage m;
@@ -276,9 +295,11 @@ std::vector<RoverEndpoint::Received> RoverEndpoint::takeCommands(
   return out;
 }
 
-DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id)
+DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id,
+                 std::chrono::milliseconds discovery_wait)
     : domain_(domain),
       rover_id_(rover_id),
+      discovery_wait_(discovery_wait),
       participant_(joinDomain(domain)),
       topics_(participant_.get()),
       heartbeat_(makeReader(participant_.get(), topics_.heartbeat.get(), Traffic::kState)),
@@ -298,14 +319,16 @@ DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id)
 // rover's reader is lost, so wait for the match (discovery on loopback
 // takes tens of milliseconds).
 void DdsLink::waitForRover() const {
-  for (int i = 0; i < 200; ++i) {
+  const auto until = std::chrono::steady_clock::now() + discovery_wait_;
+  do {
     dds_publication_matched_status_t status{};
     check(dds_get_publication_matched_status(commands_.get(), &status), "reading matches");
     if (status.current_count > 0) return;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  } while (std::chrono::steady_clock::now() < until);
   throw LinkError("no rover listens for commands on DDS domain " + std::to_string(domain_) +
-                  " (waited 2 s)");
+                  " (waited " + std::to_string(discovery_wait_.count() / 1000.0).substr(0, 4) +
+                  " s)");
 }
 
 void DdsLink::send(const Command& c) {
@@ -313,8 +336,10 @@ void DdsLink::send(const Command& c) {
   ambler_dds_Command s{};
   s.rover_id = c.rover_id;
   s.operator_id = text(c.operator_id);
+  s.console_id = c.console_id;
   s.sequence_number = c.sequence;
   s.time_s = c.time_s;
+  s.valid_until_s = c.valid_until_s;
   s.is_signed = c.hmac.has_value();
   if (c.hmac) std::copy(c.hmac->begin(), c.hmac->end(), s.hmac);
   std::vector<ambler_dds_Joints> joints;

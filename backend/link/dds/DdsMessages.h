@@ -50,8 +50,12 @@ class RoverEndpoint {
 // The console's side: a link to a rover, or ambler-sim, over DDS.
 class DdsLink : public Link {
  public:
-  DdsLink(std::uint32_t domain, std::uint32_t rover_id);
-  // Throws LinkError when no rover has listened on the domain for 2 s.
+  // `discovery_wait`: how long a command waits for the rover's reader to
+  // be matched; over a long-delay link discovery takes several round trips.
+  DdsLink(std::uint32_t domain, std::uint32_t rover_id,
+          std::chrono::milliseconds discovery_wait = std::chrono::seconds(2));
+  // Throws LinkError when no rover has listened on the domain for the
+  // discovery wait.
   void send(const Command& command) override;
   // Telemetry from this rover, in rover time order; malformed samples are
   // dropped and counted.
@@ -65,6 +69,7 @@ class DdsLink : public Link {
   void waitForRover() const;
 
   std::uint32_t domain_, rover_id_;
+  std::chrono::milliseconds discovery_wait_;
   Entity participant_;
   Topics topics_;
   Entity heartbeat_, leg_state_, body_state_, command_ack_, range_image_, striper_image_, commands_;

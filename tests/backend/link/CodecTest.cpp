@@ -61,21 +61,35 @@ TEST(Codec, TelemetryWithARangeImageSurvivesTheRoundTrip) {
 }
 
 TEST(Codec, HoldsHeartbeatsAndLegStatesSurviveTheRoundTrip) {
-  const Telemetry t{1, 5.0, Heartbeat{9, true, "Hold from alice"}};
+  const Telemetry t{1, 5.0, Heartbeat{9, true, "Hold from alice", "alice@01", "bob@02"}};
   const auto h = std::get<Heartbeat>(decodeTelemetry(encode(t)).body);
   EXPECT_EQ(h.count, 9u);
   EXPECT_TRUE(h.holding);
   EXPECT_EQ(h.hold_reason, "Hold from alice");
+  EXPECT_EQ(h.authority, "alice@01");
+  EXPECT_EQ(h.authority_request, "bob@02");
+  const auto ack = std::get<CommandAck>(
+      decodeTelemetry(encode(Telemetry{1, 5.0, CommandAck{"bob", 77, 12, false, "late"}})).body);
+  EXPECT_EQ(ack.console_id, 77u);
+  EXPECT_EQ(ack.sequence, 12u);
   const auto leg = std::get<LegState>(
       decodeTelemetry(encode(Telemetry{1, 5.0, LegState{4, {0.1, 2.0, 1.9}, true, 5230.5}})).body);
   EXPECT_EQ(leg.leg, 4);
   EXPECT_TRUE(leg.contact);
   EXPECT_EQ(leg.force_n, 5230.5);
-  for (const CommandBody& body : std::vector<CommandBody>{GroundHeartbeat{}, Resume{}, Hold{}}) {
+  for (const CommandBody& body : std::vector<CommandBody>{GroundHeartbeat{}, Resume{}, Hold{},
+                                                          RequestAuthority{}, HandOver{"bob@02"}}) {
     Command c = legMove();
     c.body = body;
-    EXPECT_EQ(decodeCommand(encode(c)).body.index(), body.index()) << typeName(body);
+    c.console_id = 0xfeedu, c.valid_until_s = 12.5;
+    const Command back = decodeCommand(encode(c));
+    EXPECT_EQ(back.body.index(), body.index()) << typeName(body);
+    EXPECT_EQ(back.console_id, 0xfeedu);
+    EXPECT_EQ(back.valid_until_s, 12.5);
   }
+  Command c = legMove();
+  c.body = HandOver{"bob@02"};
+  EXPECT_EQ(std::get<HandOver>(decodeCommand(encode(c)).body).console, "bob@02");
 }
 
 // Every prefix of a valid message is refused with a message that says it is
@@ -106,6 +120,41 @@ void expectRefused(const Bytes& bytes, const std::string& words) {
   }
 }
 
+// Mission logs written before console ids and validity windows hold
+// version 2 messages; they still read, with neither.
+TEST(Codec, Version2MessagesFromOlderMissionLogsStillDecode) {
+  auto put = [](Bytes& b, const auto& v) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    b.insert(b.end(), p, p + sizeof v);
+  };
+  Bytes hold = {'A', 'M', 'B', 'L', 2, 1, 4};  // command kind, type Hold
+  put(hold, std::uint32_t(7));
+  put(hold, std::uint16_t(5));
+  for (char ch : std::string("alice")) hold.push_back(std::uint8_t(ch));
+  put(hold, std::uint64_t(42));
+  put(hold, 1.5);
+  hold.push_back(0);  // unsigned
+  const Command c = decodeCommand(hold);
+  EXPECT_EQ(c.rover_id, 7u);
+  EXPECT_EQ(c.operator_id, "alice");
+  EXPECT_EQ(c.sequence, 42u);
+  EXPECT_EQ(c.console_id, 0u);
+  EXPECT_EQ(c.valid_until_s, 0.0);
+  EXPECT_TRUE(std::holds_alternative<Hold>(c.body));
+
+  Bytes beat = {'A', 'M', 'B', 'L', 2, 0, 0};  // telemetry kind, type Heartbeat
+  put(beat, std::uint32_t(7));
+  put(beat, 2.0);
+  put(beat, std::uint64_t(3));
+  beat.push_back(1);
+  put(beat, std::uint16_t(4));
+  for (char ch : std::string("Hold")) beat.push_back(std::uint8_t(ch));
+  const auto h = std::get<Heartbeat>(decodeTelemetry(beat).body);
+  EXPECT_TRUE(h.holding);
+  EXPECT_EQ(h.hold_reason, "Hold");
+  EXPECT_TRUE(h.authority.empty());
+}
+
 TEST(Codec, MalformedCommandsAreRefusedWithTheProblemNamed) {
   const Bytes good = encode(legMove());
   Bytes b = good;
@@ -120,8 +169,8 @@ TEST(Codec, MalformedCommandsAreRefusedWithTheProblemNamed) {
   b = good, b.push_back(0);
   expectRefused(b, "1 bytes left over");
   // The leg index sits right after the header, rover id, operator id,
-  // sequence and time.
-  const std::size_t leg_at = 7 + 4 + 2 + 5 + 8 + 8;
+  // console id, sequence, time and validity.
+  const std::size_t leg_at = 7 + 4 + 2 + 5 + 8 + 8 + 8 + 8;
   b = good, b[leg_at] = 6;
   expectRefused(b, "leg 6 out of range");
   Command c = legMove();

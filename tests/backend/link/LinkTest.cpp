@@ -52,7 +52,7 @@ TEST(WatchedLink, ShowsItsObserverWhatPassesBothWays) {
   WatchedLink link(inner, health, [] { return 0.0; },
                    {[&](const Command& c) { seen.push_back("sent " + typeName(c.body)); },
                     [&](const Telemetry& t) { seen.push_back("received " + typeName(t.body)); }});
-  link.send(Command{1, "alice", 1, 0.0, Hold{}, std::nullopt});
+  link.send(Command{.rover_id = 1, .operator_id = "alice", .sequence = 1, .body = Hold{}});
   link.receive(std::chrono::milliseconds(0));
   link.receive(std::chrono::milliseconds(0));
   EXPECT_EQ(seen, (std::vector<std::string>{"sent Hold", "received Heartbeat"}));

@@ -6,11 +6,11 @@ namespace ambler::replay {
 namespace {
 
 link::Command command(std::uint64_t sequence, link::CommandBody body) {
-  return {1, "alice", sequence, 0.0, std::move(body), std::nullopt};
+  return {.rover_id = 1, .operator_id = "alice", .sequence = sequence, .body = std::move(body)};
 }
 
 link::Telemetry ack(std::uint64_t sequence, bool accepted, std::string reason = {}) {
-  return {1, 0.0, link::CommandAck{"alice", sequence, accepted, std::move(reason)}};
+  return {1, 0.0, link::CommandAck{"alice", 0, sequence, accepted, std::move(reason)}};
 }
 
 TEST(CommandTable, EachCommandIsAnsweredInItsOwnRow) {
@@ -41,7 +41,7 @@ TEST(CommandTable, EachCommandIsAnsweredInItsOwnRow) {
   EXPECT_EQ(rows[3].what, "GroundHeartbeat");  // refused: shown at the time it was sent
   EXPECT_DOUBLE_EQ(rows[3].time_s, 2.6);
   EXPECT_EQ(rows[4].who, "rover");
-  EXPECT_EQ(rows[4].what, "answer to an unknown command 99");
+  EXPECT_EQ(rows[4].what, "answer to command 99 of alice@0000000000000000");
   EXPECT_EQ(rows[5].what, "holds");  // once, not per heartbeat
   EXPECT_EQ(rows[5].reason, "Hold from bob");
   EXPECT_EQ(rows[6].what, "rejected proposal 7");

@@ -157,6 +157,80 @@ TEST(SimulatedRover, HoldsWhenTheGroundFallsSilentUntilResumed) {
   EXPECT_FALSE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), 114.0)).accepted);
 }
 
+TEST(SimulatedRover, ACommandDelayedPastItsValidityWindowIsRefusedOnBoard) {
+  SimulatedRover rover(simulator(), options());
+  link::CommandSigner signer(alice(), 1, {.validity_s = 2.0});
+  const auto move = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
+  const auto before = rover.world().rover().truth().body.xy;
+  const auto out = rover.handle(move, move.time_s + 2.5);  // held 2.5 s on the way
+  EXPECT_EQ(ackOf(out).reason,
+            "arrived 0.50 s after its validity window closed (signed 2.50 s ago, valid for "
+            "2.00 s)");
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ((rover.world().rover().truth().body.xy - before).norm(), 0.0);
+}
+
+// The rover keeps sequences in memory only: after a restart, a recorded
+// command must still not move it again.
+TEST(SimulatedRover, ACommandPlayedAgainAfterARoverRestartIsRefused) {
+  link::CommandSigner signer(alice());
+  link::Command recorded;
+  {
+    SimulatedRover rover(simulator(), options());
+    recorded = command(link::BodyMove{0, 0.2, 0, 0}, &signer);
+    ASSERT_TRUE(ackOf(rover.handle(recorded, recorded.time_s + 0.1)).accepted);
+    EXPECT_NE(ackOf(rover.handle(recorded, recorded.time_s + 0.2)).reason.find("replayed"),
+              std::string::npos);
+  }
+  SimulatedRover restarted(simulator(), options());
+  const auto reason = ackOf(restarted.handle(recorded, recorded.time_s + 0.3)).reason;
+  EXPECT_NE(reason.find("before this rover's link started (a command from before a restart)"),
+            std::string::npos)
+      << reason;
+  // The console goes on with new commands.
+  EXPECT_TRUE(
+      ackOf(restarted.handle(command(link::BodyMove{0, 0.2, 0, 0}, &signer), link::utcNowS()))
+          .accepted);
+}
+
+TEST(SimulatedRover, OnlyTheConsoleInCommandMovesTheRoverAndAnyConsoleMayHoldIt) {
+  auto o = options();
+  o.operators.push_back({"bob", std::vector<std::uint8_t>(32, 8)});
+  o.link_timeout_s = 3.0;
+  SimulatedRover rover(simulator(), o);
+  link::CommandSigner a(alice()), b(o.operators[1]);
+  const double t = link::utcNowS();
+  ASSERT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &a), t)).accepted);
+  EXPECT_EQ(heartbeatOf({rover.heartbeat(t)}).authority, a.console());
+  EXPECT_EQ(rover.takeAuthorityChange(), a.console() + " took command authority");
+
+  auto out = rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &b), t + 0.1);
+  EXPECT_EQ(ackOf(out).reason, b.console() + " does not hold command authority (" + a.console() +
+                                   " does): send RequestAuthority and wait for a hand-over");
+  // The watching console's heartbeats do not keep the rover going for the
+  // commanding one.
+  EXPECT_TRUE(rover.handle(command(link::GroundHeartbeat{}, &b), t + 2.0).empty());
+  EXPECT_TRUE(heartbeatOf(rover.watchLink(t + 3.2)).holding);
+  EXPECT_EQ(rover.takeAuthorityChange(), a.console() + " lost command authority");
+  EXPECT_FALSE(rover.authority().held());
+
+  // Back in command, then any console may stop the rover.
+  ASSERT_TRUE(ackOf(rover.handle(command(link::Resume{}, &a), t + 4.0)).accepted);
+  EXPECT_EQ(rover.authority().holder(), a.console());
+  out = rover.handle(command(link::Hold{}, &b), t + 4.1);
+  EXPECT_TRUE(ackOf(out).accepted);
+  EXPECT_EQ(heartbeatOf(out).hold_reason, "Hold from bob");
+
+  // The hand-over: bob asks, alice hands over, and bob is in command.
+  ASSERT_TRUE(ackOf(rover.handle(command(link::RequestAuthority{}, &b), t + 4.2)).accepted);
+  EXPECT_EQ(heartbeatOf({rover.heartbeat(t + 4.2)}).authority_request, b.console());
+  ASSERT_TRUE(ackOf(rover.handle(command(link::HandOver{b.console()}, &a), t + 4.3)).accepted);
+  EXPECT_EQ(rover.takeAuthorityChange(),
+            a.console() + " handed command authority to " + b.console());
+  EXPECT_TRUE(ackOf(rover.handle(command(link::Resume{}, &b), t + 4.4)).accepted);
+  EXPECT_FALSE(ackOf(rover.handle(command(link::Resume{}, &a), t + 4.5)).accepted);
+}
+
 TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
   SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
