@@ -1,10 +1,16 @@
 // ambler-cli drive: a headless console. It walks a rover (or ambler-sim)
 // over DDS with the executive in auto-approve mode, so every interlock
 // still runs, and records everything in a mission log. It prints one JSON
-// line per event and per acknowledgement, each after the log has it, then a
-// summary.
+// line per event, per acknowledgement and per change of command
+// authority, each after the log has it, then a summary. --watch only
+// watches and records; --take-over watches until SIGUSR1, then asks for
+// command authority and walks once it has it; --hand-over gives authority,
+// between two steps, to a console that asks.
+#include <atomic>
+#include <csignal>
 #include <iostream>
 #include <memory>
+#include <set>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
@@ -17,103 +23,281 @@ namespace ambler::cli {
 
 namespace {
 
+std::atomic<bool> g_take_over{false}, g_stop{false};
+
 struct DriveArgs {
   std::uint32_t domain = 0;
   std::uint32_t rover_id = 1;
   std::string key;
   std::string log;
   int steps = 5;
-  bool auto_approve = false;
-  bool resume = false;
+  bool auto_approve = false, resume = false, watch = false, take_over = false, hand_over = false;
   double timeout_s = 600.0;
+  double validity_s = 10.0;
+  double discovery_wait_s = 30.0;
 };
 
 void printLine(const nlohmann::json& line) { std::cout << line.dump() << std::endl; }
 
-// Prints each acknowledgement as it comes out of the (recording) link.
-class AckPrinter : public link::Link {
+// The console's view of the link: prints each acknowledgement (this
+// console's, with the command it answers, and other consoles') and each
+// change of command authority as they come out of the recording link, and
+// measures approval-to-motion latency: from an approval to the rover's
+// acknowledgement (rover clock, UTC) of the step's first move.
+class ConsoleLink : public link::Link {
  public:
-  explicit AckPrinter(link::Link& inner) : inner_(inner) {}
+  ConsoleLink(link::Link& inner, std::string console) : inner_(inner), me_(std::move(console)) {}
+
   void send(const link::Command& command) override {
-    sent_[command.sequence] = link::typeName(command.body);
+    const bool moves = std::holds_alternative<link::LegMove>(command.body) ||
+                       std::holds_alternative<link::BodyMove>(command.body);
+    if (moves && approved_s_) first_move_ = {command.sequence, *std::exchange(approved_s_, {})};
     inner_.send(command);
+    if (std::holds_alternative<link::GroundHeartbeat>(command.body)) return;
+    unanswered_[command.sequence] = link::typeName(command.body);
+    ++sent_;
   }
+
   std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override {
     auto in = inner_.receive(timeout);
-    for (const auto& t : in)
-      if (const auto* a = std::get_if<link::CommandAck>(&t.body))
-        printLine({{"ack", a->sequence},
-                   {"command", sent_.count(a->sequence) ? sent_[a->sequence] : "?"},
-                   {"accepted", a->accepted},
-                   {"reason", a->reason}});
+    for (const auto& t : in) {
+      if (const auto* a = std::get_if<link::CommandAck>(&t.body)) onAck(*a, t.time_s);
+      if (const auto* h = std::get_if<link::Heartbeat>(&t.body)) onHeartbeat(*h);
+    }
     return in;
   }
   std::string describe() const override { return inner_.describe(); }
 
+  void approved(double now_s) { approved_s_ = now_s; }
+  std::size_t unanswered() const { return unanswered_.size(); }
+  const std::string& holder() const { return holder_; }
+  const std::string& request() const { return request_; }
+
+  nlohmann::json figures() const {
+    return {{"commands_sent", sent_},  // heartbeats left out
+            {"acks", acks_},
+            {"refused", refused_},
+            {"unanswered", unanswered_.size()},
+            {"other_consoles_acks", others_acks_},
+            {"approval_to_motion_s", distribution(latencies_s_)}};
+  }
+
  private:
+  void onAck(const link::CommandAck& a, double rover_time_s) {
+    const std::string console = link::consoleName(a.operator_id, a.console_id);
+    if (console != me_) {
+      ++others_acks_;
+      printLine({{"ack", a.sequence},
+                 {"console", console},
+                 {"accepted", a.accepted},
+                 {"reason", a.reason}});
+      return;
+    }
+    const auto it = unanswered_.find(a.sequence);
+    const std::string what = it != unanswered_.end() ? it->second : "GroundHeartbeat";
+    if (it != unanswered_.end()) unanswered_.erase(it);
+    ++acks_;
+    refused_ += !a.accepted;
+    if (first_move_ && first_move_->first == a.sequence && a.accepted)
+      latencies_s_.push_back(rover_time_s - first_move_->second);
+    printLine(
+        {{"ack", a.sequence}, {"command", what}, {"accepted", a.accepted}, {"reason", a.reason}});
+  }
+
+  void onHeartbeat(const link::Heartbeat& h) {
+    if (h.authority == holder_ && h.authority_request == request_) return;
+    holder_ = h.authority, request_ = h.authority_request;
+    printLine({{"authority", holder_}, {"request", request_}, {"me", me_}});
+  }
+
   link::Link& inner_;
-  std::map<std::uint64_t, std::string> sent_;
+  std::string me_, holder_, request_;
+  std::optional<double> approved_s_;
+  std::optional<std::pair<std::uint64_t, double>> first_move_;  // sequence, approved at
+  std::map<std::uint64_t, std::string> unanswered_;
+  std::vector<double> latencies_s_;
+  long sent_ = 0, acks_ = 0, refused_ = 0, others_acks_ = 0;
 };
 
-int drive(const DriveArgs& a) {
-  if (!a.auto_approve)
-    throw std::invalid_argument(
-        "drive has no operator to ask: pass --auto-approve (every interlock still runs) or "
-        "approve steps in ambler-gs");
-  const auto context = gait::readInstalledGaitContext();
-  link::CommandSigner signer(link::readOperatorKey(a.key), missionlog::firstSequenceFromClock());
-  missionlog::MissionLog log(a.log, "drive rover " + std::to_string(a.rover_id));
-  link::dds::DdsLink dds(a.domain, a.rover_id);
-  missionlog::RecordingLink recording(dds, log);
+// Everything a console has: its mission log, the DDS link recorded into
+// it, the link's health and the printing view.
+struct Console {
+  Console(const DriveArgs& a, const std::string& me)
+      : log(a.log, "drive rover " + std::to_string(a.rover_id)),
+        dds(a.domain, a.rover_id,
+            std::chrono::milliseconds(static_cast<long>(a.discovery_wait_s * 1000))),
+        recording(dds, log),
+        watched(recording, health, missionlog::groundClockS),
+        link(watched, me) {}
+  missionlog::MissionLog log;
+  link::dds::DdsLink dds;
+  missionlog::RecordingLink recording;
   link::LinkHealth health;
-  link::WatchedLink watched(recording, health, missionlog::groundClockS);
-  AckPrinter link(watched);
-  executive::ApprovalGate gate([&](const missionlog::Decision& d) { log.record(d); });
+  link::WatchedLink watched;
+  ConsoleLink link;
+};
+
+// Prints the link turning stale or fresh (nothing heard for 3 s).
+void reportStaleness(Console& c, double now_s, double start_s, bool& stale) {
+  if (c.health.stale(now_s) == stale) return;
+  stale = !stale;
+  const auto age = c.health.ageS(now_s);
+  printLine({{"link", stale ? "stale" : "fresh"},
+             {"age_s", age ? nlohmann::json(*age) : nlohmann::json()},
+             {"t_s", now_s - start_s}});
+}
+
+void sendSigned(Console& c, link::CommandSigner& signer, std::uint32_t rover_id,
+                link::CommandBody body) {
+  link::Command command;
+  command.rover_id = rover_id;
+  command.body = std::move(body);
+  signer.sign(command);
+  c.link.send(command);
+}
+
+// Watches and records until SIGTERM, the timeout, or (taking over) SIGUSR1.
+void watch(Console& c, const DriveArgs& a, double start_s, bool until_take_over) {
+  bool stale = false;
+  while (!g_stop && !(until_take_over && g_take_over) &&
+         missionlog::groundClockS() - start_s < a.timeout_s) {
+    c.link.receive(std::chrono::milliseconds(50));
+    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
+  }
+}
+
+// Asks for command authority and waits until the rover says this console
+// holds it; false on the timeout.
+bool takeOver(Console& c, link::CommandSigner& signer, const DriveArgs& a, double start_s) {
+  sendSigned(c, signer, a.rover_id, link::RequestAuthority{});
+  printLine(
+      {{"event", "asked for command authority"}, {"t_s", missionlog::groundClockS() - start_s}});
+  while (c.link.holder() != signer.console()) {
+    if (missionlog::groundClockS() - start_s > a.timeout_s) return false;
+    c.link.receive(std::chrono::milliseconds(50));
+  }
+  return true;
+}
+
+// Why the walk stops, or empty while it goes on.
+std::string stopReason(const executive::WalkExecutive& executive,
+                       const executive::ApprovalGate& gate, double elapsed_s, double timeout_s) {
+  const auto& pending = gate.pending();
+  if (executive.phase() == executive::Phase::kDone) return "done";
+  if (executive.phase() == executive::Phase::kSuspended) return "suspended";
+  if (pending && !pending->interlocks.passed())
+    return "step fails interlock " + pending->interlocks.firstFailure() +
+           "; no operator here to edit or reject it";
+  if (elapsed_s > timeout_s) return "timed out";
+  return {};
+}
+
+// Another console asks for authority: no new step is released; between two
+// steps (a proposal waiting, nothing in flight) authority goes to it.
+bool handOverBetweenSteps(Console& c, link::CommandSigner& signer, executive::ApprovalGate& gate,
+                          const executive::WalkExecutive& executive, const DriveArgs& a) {
+  if (c.link.request().empty() || c.link.holder() != signer.console()) return false;
+  gate.setMode(executive::ApprovalMode::kOperator);
+  if (executive.phase() != executive::Phase::kAwaitingDecision) return false;
+  sendSigned(c, signer, a.rover_id, link::HandOver{c.link.request()});
+  const double asked_s = missionlog::groundClockS();
+  while (c.link.holder() == signer.console() &&
+         missionlog::groundClockS() - asked_s < executive.ackTimeoutS())
+    c.link.receive(std::chrono::milliseconds(50));
+  return c.link.holder() != signer.console();
+}
+
+int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double start_s) {
+  const auto context = gait::readInstalledGaitContext();
+  executive::ApprovalGate gate([&](const missionlog::Decision& d) {
+    c.log.record(d);
+    if (d.verdict == missionlog::Verdict::kApproved) c.link.approved(d.time_s);
+  });
   gate.setMode(executive::ApprovalMode::kAutoApprove);
   executive::ExecutiveOptions options;
   options.rover_id = a.rover_id;
   options.steps = a.steps;
-  executive::WalkExecutive executive(link, signer, gate, context, options);
+  executive::WalkExecutive executive(c.link, signer, gate, context, options);
   executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
-    log.recordProduct(t, kind, parameters);
+    c.log.recordProduct(t, kind, parameters);
   });
-  executive.onEvent([&](const executive::ExecutiveEvent& e) { log.recordEvent(e.time_s, e.what); });
+  executive.onEvent(
+      [&](const executive::ExecutiveEvent& e) { c.log.recordEvent(e.time_s, e.what); });
 
-  const double start_s = missionlog::groundClockS();
   std::size_t printed = 0;
-  printLine({{"event", "waiting for the rover's state on " + link.describe()}, {"t_s", 0.0}});
-  executive.start(start_s, a.resume);
+  auto printEvents = [&](double now_s) {
+    for (; printed < executive.events().size(); ++printed)
+      printLine({{"event", executive.events()[printed].what}, {"t_s", now_s - start_s}});
+  };
+  // A console that took over has watched the rover's state go by; a Resume
+  // has the rover report it all again (and ends a hold).
+  executive.start(missionlog::groundClockS(), a.resume || a.take_over);
   std::string stopped;
   bool stale = false;
   while (stopped.empty()) {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
-    if (health.stale(now_s) != stale) {
-      stale = !stale;
-      const auto age = health.ageS(now_s);
-      printLine({{"link", stale ? "stale" : "fresh"},
-                 {"age_s", age ? nlohmann::json(*age) : nlohmann::json()},
-                 {"t_s", now_s - start_s}});
-    }
-    for (; printed < executive.events().size(); ++printed)
-      printLine({{"event", executive.events()[printed].what}, {"t_s", now_s - start_s}});
-    const auto& pending = gate.pending();
-    if (executive.phase() == executive::Phase::kDone)
-      stopped = "done";
-    else if (executive.phase() == executive::Phase::kSuspended)
-      stopped = "suspended";
-    else if (pending && !pending->interlocks.passed())
-      stopped = "step fails interlock " + pending->interlocks.firstFailure() +
-                "; no operator here to edit or reject it";
-    else if (now_s - start_s > a.timeout_s)
-      stopped = "timed out";
+    reportStaleness(c, now_s, start_s, stale);
+    printEvents(now_s);
+    stopped = stopReason(executive, gate, now_s - start_s, a.timeout_s);
+    if (stopped.empty() && a.hand_over && handOverBetweenSteps(c, signer, gate, executive, a))
+      stopped = "handed over to " + c.link.holder();
   }
-  printLine({{"stopped", stopped},
-             {"steps_done", executive.stepsDone()},
-             {"steps_planned_ahead", executive.stepsPlannedAhead()},
-             {"log", a.log},
-             {"duration_s", missionlog::groundClockS() - start_s}});
-  return stopped == "done" ? 0 : 2;
+  // A suspended walk may have commands in flight (a link that came back
+  // delivers them late): their answers, and the rover's word on holding,
+  // are waited for so that the log has them.
+  const double settle_until = missionlog::groundClockS() + 2 * executive.ackTimeoutS();
+  while (stopped == "suspended" && missionlog::groundClockS() < settle_until &&
+         (c.link.unanswered() > 0 || c.health.stale(missionlog::groundClockS()))) {
+    executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
+    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
+    printEvents(missionlog::groundClockS());
+  }
+  auto summary = c.link.figures();
+  summary.update({{"stopped", stopped},
+                  {"steps_done", executive.stepsDone()},
+                  {"steps_planned_ahead", executive.stepsPlannedAhead()},
+                  {"round_trip_s", executive.roundTripS() ? nlohmann::json(*executive.roundTripS())
+                                                          : nlohmann::json()},
+                  {"console", signer.console()},
+                  {"log", a.log},
+                  {"duration_s", missionlog::groundClockS() - start_s}});
+  printLine(summary);
+  const bool ok = stopped == "done" || stopped.rfind("handed over", 0) == 0;
+  return ok ? 0 : 2;
+}
+
+int drive(const DriveArgs& a) {
+  if (!a.auto_approve && !a.watch)
+    throw std::invalid_argument(
+        "drive has no operator to ask: pass --auto-approve (every interlock still runs) or "
+        "approve steps in ambler-gs");
+  if (!a.watch && a.key.empty()) throw std::invalid_argument("--key is needed to command");
+  std::signal(SIGUSR1, [](int) { g_take_over = true; });
+  std::signal(SIGTERM, [](int) { g_stop = true; });
+  std::signal(SIGINT, [](int) { g_stop = true; });
+  std::optional<link::CommandSigner> signer;
+  if (!a.key.empty())
+    signer.emplace(link::readOperatorKey(a.key), missionlog::firstSequenceFromClock(),
+                   link::SignerOptions{.validity_s = a.validity_s});
+  const std::string me = signer ? signer->console() : "watcher";
+  Console c(a, me);
+  const double start_s = missionlog::groundClockS();
+  printLine({{"event", "waiting for the rover's state on " + c.link.describe()},
+             {"console", me},
+             {"t_s", 0.0}});
+  if (a.watch || a.take_over) watch(c, a, start_s, a.take_over);
+  if (a.watch || g_stop) {
+    auto summary = c.link.figures();
+    summary.update({{"stopped", "watched"}, {"console", me}, {"log", a.log}});
+    printLine(summary);
+    return 0;
+  }
+  if (a.take_over && !takeOver(c, *signer, a, start_s)) {
+    printLine({{"stopped", "no command authority within the timeout"}});
+    return 2;
+  }
+  return walk(c, *signer, a, start_s);
 }
 
 }  // namespace
@@ -123,13 +307,12 @@ void addDrive(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "drive",
       "Headless console: walk a rover or ambler-sim over DDS, auto-approving steps that pass "
-      "every interlock, logging everything");
+      "every interlock, logging everything; or watch and log");
   cmd->add_option("--domain", args->domain, "DDS domain")
       ->check(CLI::Range(0, 232))
       ->capture_default_str();
   cmd->add_option("--rover-id", args->rover_id, "rover to command")->capture_default_str();
   cmd->add_option("--key", args->key, "operator key file {\"operator\", \"key_hex\"}")
-      ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--log", args->log, "mission log to create or append to (SQLite)")->required();
   cmd->add_option("--steps", args->steps, "steps to walk")
@@ -140,6 +323,22 @@ void addDrive(CLI::App& app) {
                 "is no operator here)");
   cmd->add_flag("--resume", args->resume,
                 "end a hold the rover is in (after a Hold or a link loss) before walking");
+  cmd->add_flag("--watch", args->watch,
+                "only watch and record (no key needed) until SIGTERM or the timeout");
+  cmd->add_flag("--take-over", args->take_over,
+                "watch until SIGUSR1, then ask for command authority and walk once it is handed "
+                "over");
+  cmd->add_flag("--hand-over", args->hand_over,
+                "when another console asks for command authority, hand it over between two "
+                "steps and stop");
+  cmd->add_option("--validity", args->validity_s,
+                  "validity window of each command [s]: the rover refuses one arriving later")
+      ->check(CLI::Range(0.01, 600.0))
+      ->capture_default_str();
+  cmd->add_option("--discovery-wait", args->discovery_wait_s,
+                  "how long a command waits for the rover to be discovered [s]")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
   cmd->add_option("--timeout", args->timeout_s, "give up after this long [s]")
       ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str();

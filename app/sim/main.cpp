@@ -7,6 +7,7 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "core/Memory.h"
@@ -52,17 +53,34 @@ void run(const Args& a) {
   link::dds::RoverEndpoint endpoint(a.domain, a.rover_id);
 
   long commands = 0, refused = 0;
+  // What was carried out, by type: a command executed twice would show.
+  std::map<std::pair<std::string, std::uint64_t>, std::string> received;
+  std::map<std::string, long> executed;
   const auto start = std::chrono::steady_clock::now();
   rover::RoverLoopIo io;
   io.receive = [&](std::chrono::milliseconds timeout) {
     std::vector<rover::Incoming> in;
-    for (auto& r : endpoint.takeCommands(std::min(timeout, std::chrono::milliseconds(100))))
+    for (auto& r : endpoint.takeCommands(std::min(timeout, std::chrono::milliseconds(100)))) {
+      // Heartbeats are answered only when refused.
+      const auto& c = r.command;
+      if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
+        received[{link::consoleName(c.operator_id, c.console_id), c.sequence}] =
+            link::typeName(c.body);
       in.push_back({std::move(r.command), std::move(r.malformed)});
+    }
     commands += long(in.size());
     return in;
   };
   io.publish = [&](const link::Telemetry& t) {
-    if (const auto* ack = std::get_if<link::CommandAck>(&t.body); ack && !ack->accepted) ++refused;
+    if (const auto* ack = std::get_if<link::CommandAck>(&t.body)) {
+      const auto it =
+          received.find({link::consoleName(ack->operator_id, ack->console_id), ack->sequence});
+      if (!ack->accepted)
+        ++refused;
+      else if (it != received.end())
+        ++executed[it->second];
+      if (it != received.end()) received.erase(it);
+    }
     endpoint.publish(t);
   };
   io.note = [](const std::string& what) {
@@ -85,7 +103,8 @@ void run(const Args& a) {
   rover::runRoverLoop(rover, std::chrono::milliseconds(a.heartbeat_ms), io);
   std::cout << nlohmann::json{{"ambler_sim", "stopped"},
                               {"commands", commands},
-                              {"refused", refused}}
+                              {"refused", refused},
+                              {"executed", executed}}
             << std::endl;
 }
 

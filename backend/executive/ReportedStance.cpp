@@ -1,13 +1,23 @@
 #include "executive/ReportedStance.h"
 
+#include <algorithm>
+
 namespace ambler::executive {
 
 void RoverReport::take(const link::Telemetry& message) {
   if (const auto* leg = std::get_if<link::LegState>(&message.body)) {
-    if (leg->leg >= 0 && leg->leg < gait::kLegCount) legs[std::size_t(leg->leg)] = *leg;
+    if (leg->leg < 0 || leg->leg >= gait::kLegCount) return;
+    legs[std::size_t(leg->leg)] = *leg;
+    leg_time_s[std::size_t(leg->leg)] = message.time_s;
   } else if (const auto* b = std::get_if<link::BodyState>(&message.body)) {
     body = *b;
+    body_time_s = message.time_s;
   }
+}
+
+bool RoverReport::reportedSince(double rover_time_s) const {
+  return body_time_s >= rover_time_s && std::all_of(leg_time_s.begin(), leg_time_s.end(),
+                                                    [&](double t) { return t >= rover_time_s; });
 }
 
 std::optional<gait::Stance> RoverReport::stance(const gait::RoverModel& model) const {

@@ -19,8 +19,16 @@ struct RoverSample {
 struct RoverReport {
   std::array<std::optional<link::LegState>, gait::kLegCount> legs{};
   std::optional<link::BodyState> body;
+  // The rover times of those reports.
+  std::array<double, gait::kLegCount> leg_time_s;
+  double body_time_s = -1e300;
 
+  RoverReport() { leg_time_s.fill(-1e300); }
   void take(const link::Telemetry& message);  // keeps leg and body states
+  // Whether the body and every leg have reported since `rover_time_s`:
+  // each travels on its own DDS topic, and over a network they may come in
+  // any order relative to each other and to the acknowledgements.
+  bool reportedSince(double rover_time_s) const;
   // The stance those reports describe (feet by forward kinematics); none
   // until the body and every leg have reported.
   std::optional<gait::Stance> stance(const gait::RoverModel& model) const;

@@ -161,10 +161,11 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   if (link_lost_ && phase_ != Phase::kSuspended && phase_ != Phase::kDone)
     suspend(now_s, "link lost: " + *link_lost_, false);
   if (phase_ == Phase::kDone || phase_ == Phase::kSuspended) return;
-  if (awaiting_ && now_s - sent_s_ > opt_.ack_timeout_s) {
+  if (awaiting_ && now_s - sent_s_ > ackTimeoutS()) {
     std::ostringstream why;
+    why.precision(3);
     why << "the rover did not acknowledge the " << awaiting_what_ << " (sequence " << *awaiting_
-        << ") within " << opt_.ack_timeout_s << " s";
+        << ") within " << ackTimeoutS() << " s";
     suspend(now_s, why.str(), true);
     return;
   }
@@ -178,7 +179,8 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
       suspend(now_s, "step rejected by the operator", false);
     }
   }
-  if (phase_ == Phase::kExecuting && move_acked_ && state_fresh_) afterMove(now_s);
+  if (phase_ == Phase::kExecuting && move_acked_at_s_ && report_.reportedSince(*move_acked_at_s_))
+    afterMove(now_s);
 }
 
 void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
@@ -186,13 +188,11 @@ void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
   if (std::holds_alternative<link::LegState>(message.body) ||
       std::holds_alternative<link::BodyState>(message.body)) {
     report_.take(message);
-    // The rover reports the body last.
-    if (std::holds_alternative<link::BodyState>(message.body)) state_fresh_ = true;
     placeReported();
   } else if (const auto* a = std::get_if<link::CommandAck>(&message.body)) {
-    onAck(*a, now_s);
+    onAck(*a, message.time_s, now_s);
   } else if (const auto* h = std::get_if<link::Heartbeat>(&message.body)) {
-    onRoverHeartbeat(*h, now_s);
+    onRoverHeartbeat(*h, message.time_s, now_s);
   } else if (const auto* image = std::get_if<sensor::RangeImage>(&message.body)) {
     if (phase_ == Phase::kScanning) scan_ = *image, scan_time_s_ = message.time_s;
   }
@@ -205,8 +205,12 @@ void WalkExecutive::endHold(double now_s) { resume_ = send(link::Resume{}, now_s
 
 // A hold the executive did not ask for (link loss, or another console's
 // Hold) stops the step; the operator decides when to resume.
-void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s) {
-  if (heartbeat.hold_reason == rover_holding_ || (resume_ && heartbeat.holding)) return;
+void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s,
+                                     double now_s) {
+  // Heartbeats and acknowledgements travel on different topics: one sent
+  // before the Resume's acknowledgement may come after it.
+  const bool before_resume = resume_ || rover_time_s < resumed_at_s_;
+  if (heartbeat.hold_reason == rover_holding_ || (before_resume && heartbeat.holding)) return;
   rover_holding_ = heartbeat.hold_reason;
   if (!heartbeat.holding) {
     note(now_s, "rover no longer holds");
@@ -217,9 +221,13 @@ void WalkExecutive::onRoverHeartbeat(const link::Heartbeat& heartbeat, double no
     suspend(now_s, "rover holds: " + rover_holding_, false);
 }
 
-void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
+double WalkExecutive::ackTimeoutS() const {
+  return std::max(opt_.ack_timeout_s, 4.0 * round_trip_s_.value_or(0.0));
+}
+
+void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, double now_s) {
   if (ack.operator_id != signer_.operatorId() || ack.console_id != signer_.consoleId()) return;
-  if (resume_ && ack.sequence == *resume_) resume_.reset();
+  if (resume_ && ack.sequence == *resume_) resume_.reset(), resumed_at_s_ = rover_time_s;
   if (!awaiting_ || ack.sequence != *awaiting_) {
     // Heartbeats and Resume are not awaited; only their refusals come back.
     if (!ack.accepted)
@@ -227,6 +235,8 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
     return;
   }
   awaiting_.reset();
+  const double sample = now_s - sent_s_;
+  round_trip_s_ = round_trip_s_ ? 0.8 * *round_trip_s_ + 0.2 * sample : sample;
   const bool moving = phase_ == Phase::kExecuting;
   const int task = moving ? command_tasks_[next_command_ - 1] : scan_task_;
   if (!ack.accepted) {
@@ -235,7 +245,7 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double now_s) {
     return;
   }
   tasks_.finish(task, now_s);
-  if (moving) move_acked_ = true;
+  if (moving) move_acked_at_s_ = rover_time_s;
 }
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the part of
@@ -494,7 +504,7 @@ void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
 
 void WalkExecutive::sendNext(double now_s) {
   tasks_.start(command_tasks_[next_command_], now_s);
-  move_acked_ = state_fresh_ = false;
+  move_acked_at_s_.reset();
   awaiting_ = send(executing_->commands[next_command_], now_s);
   awaiting_what_ = link::typeName(executing_->commands[next_command_]);
   sent_s_ = now_s;
@@ -503,7 +513,7 @@ void WalkExecutive::sendNext(double now_s) {
 
 // What the rover reports after a move, against the plan.
 void WalkExecutive::afterMove(double now_s) {
-  move_acked_ = state_fresh_ = false;
+  move_acked_at_s_.reset();
   const auto& m = ctx_.model;
   const double margin = gait::checkStance(*reported_, m, 0.0).csp_margin_m;
   if (margin < 0) {

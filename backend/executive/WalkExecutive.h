@@ -31,10 +31,12 @@ namespace ambler::executive {
 struct ExecutiveOptions {
   std::uint32_t rover_id = 1;
   int steps = 5;
-  gait::Heading heading;        // straight ahead by default
-  double ack_timeout_s = 10.0;  // a command unanswered this long: Hold, suspend
-  double off_plan_m = 0.05;     // body or foot further than this from the plan: replan
-  double off_plan_rad = 0.02;   // or the body turned this much more or less than planned
+  gait::Heading heading;  // straight ahead by default
+  // A command unanswered this long, or 4 measured round trips if longer
+  // (a long-delay link): Hold, suspend.
+  double ack_timeout_s = 10.0;
+  double off_plan_m = 0.05;    // body or foot further than this from the plan: replan
+  double off_plan_rad = 0.02;  // or the body turned this much more or less than planned
   // Plan the next step while the rover executes this one (cmu-1990 TCA);
   // off: scan, plan and execute one after the other.
   bool plan_ahead = true;
@@ -144,6 +146,10 @@ class WalkExecutive {
   const terrain::ElevationMap& map() const { return map_; }
   const std::vector<StepRecord>& stepLog() const { return step_log_; }
   const GroundWork& groundWork() const { return work_; }
+  // The command round trip (send to acknowledgement, smoothed over the
+  // awaited commands); none before the first.
+  std::optional<double> roundTripS() const { return round_trip_s_; }
+  double ackTimeoutS() const;
   // Why the link could not carry the last command, until the rover is
   // heard again; the walk is suspended meanwhile.
   const std::optional<std::string>& linkLost() const { return link_lost_; }
@@ -159,8 +165,8 @@ class WalkExecutive {
 
  private:
   void handle(const link::Telemetry& message, double now_s);
-  void onAck(const link::CommandAck& ack, double now_s);
-  void onRoverHeartbeat(const link::Heartbeat& heartbeat, double now_s);
+  void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
+  void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
   void endHold(double now_s);
   void requestScan(double now_s);
   void requestClosingScan(double now_s);
@@ -217,12 +223,16 @@ class WalkExecutive {
   std::optional<std::uint64_t> awaiting_;
   std::string awaiting_what_;  // its type, for the operator
   double sent_s_ = 0.0;
+  std::optional<double> round_trip_s_;
   double last_sent_s_ = -1e300;  // any command, heartbeats included
   std::string rover_holding_;
   std::optional<std::string> link_lost_;  // why the last command could not be sent
   std::string suspended_because_;
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
-  bool move_acked_ = false, state_fresh_ = false;
+  double resumed_at_s_ = -1e300;         // rover time of the last Resume's acknowledgement
+  // The rover's time of the acknowledgement of the move under way: what it
+  // reports from then on is the state after it.
+  std::optional<double> move_acked_at_s_;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends

@@ -37,7 +37,11 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
       if (io.note) noteOutcome(in.command, out, rover, io.note);
       for (const auto& t : out) io.publish(t);
     }
-    for (const auto& t : rover.watchLink(now_s())) io.publish(t);
+    for (const auto& t : rover.watchLink(now_s())) {
+      if (const auto* h = std::get_if<link::Heartbeat>(&t.body); h && io.note)
+        io.note("holds: " + h->hold_reason);
+      io.publish(t);
+    }
     if (const auto lost = rover.takeAuthorityChange(); io.note && !lost.empty()) io.note(lost);
     if (Clock::now() >= next_heartbeat) {
       io.publish(rover.heartbeat(now_s()));

@@ -1,5 +1,6 @@
 #include "rover/SimulatedRover.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 #include <thread>
@@ -62,7 +63,7 @@ link::Telemetry SimulatedRover::heartbeat(double now_s) {
 std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
   if (options_.link_timeout_s <= 0 || !last_heard_s_ || holding()) return {};
   const double silent_s = now_s - *last_heard_s_;
-  if (silent_s <= options_.link_timeout_s) return {};
+  if (silent_s <= options_.link_timeout_s + 2.0 * delay_s_) return {};
   std::ostringstream why;
   why.precision(1);
   why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
@@ -107,8 +108,11 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
   // A watching console's heartbeats must not keep the rover going for a
   // commanding console that died.
   if (!authority_.held() ||
-      authority_.holder() == link::consoleName(command.operator_id, command.console_id))
+      authority_.holder() == link::consoleName(command.operator_id, command.console_id)) {
     last_heard_s_ = now_s;
+    const double delay = std::max(0.0, now_s - command.time_s);
+    delay_s_ = delay > delay_s_ ? delay : 0.95 * delay_s_ + 0.05 * delay;
+  }
   // The next heartbeat announces it.
   if (!change.empty()) authority_change_ = change;
   if (std::holds_alternative<link::GroundHeartbeat>(command.body)) return {};
@@ -159,8 +163,9 @@ std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
     return {};
   if (std::holds_alternative<link::Hold>(body)) {
     // Every move completes before the next command is read, so holding is
-    // refusing the next motion.
-    holding_ = "Hold from " + command.operator_id;
+    // refusing the next motion. A hold already in force keeps its reason:
+    // the first is what the operator needs to know.
+    if (!holding()) holding_ = "Hold from " + command.operator_id;
     out.push_back(heartbeat(now_s));
     return {};
   }

@@ -49,7 +49,9 @@ struct SimulatedRoverOptions {
   Box2 scanned_area{-10.0, -8.0, 10.0, 45.0};
   // Hold on its own when no signed command (a GroundHeartbeat at least)
   // has come from the console holding command authority for this long
-  // after the first; 0: never.
+  // after the first, plus two of the commands' measured one-way delays (a
+  // command lost on a long-delay link is resent a round trip later); 0:
+  // never.
   double link_timeout_s = 3.0;
   // Wall seconds per simulated second: moves and scans take this long
   // (their modelled duration times it) before they are answered; 0: at once.
@@ -110,6 +112,7 @@ class SimulatedRover {
   std::uint64_t heartbeats_ = 0, scans_ = 0;
   std::string holding_;                 // why the rover holds; empty: it does not
   std::optional<double> last_heard_s_;  // the last command from the console in command
+  double delay_s_ = 0.0;                // its one-way delay, smoothed, rising at once
   sim::MoveReport last_move_;
   double busy_s_ = 0.0;
 };
