@@ -28,7 +28,33 @@ struct EvalLinkArgs {
   int round_trips = 500;
   int scans = 20;
   std::string sim;
+  int cpu_load = 0;
   bool json = false;
+};
+
+// Processes that keep a core busy each, at the same priority as this one,
+// for as long as the measurement: an operator's laptop is rarely idle.
+class CpuLoad {
+ public:
+  explicit CpuLoad(int processes) {
+    for (int i = 0; i < processes; ++i) {
+      const pid_t pid = ::fork();
+      if (pid < 0) throw std::runtime_error("cannot start a load process");
+      if (pid == 0) {
+        volatile unsigned long spin = 0;
+        for (;;) spin = spin + 1;
+      }
+      pids_.push_back(pid);
+    }
+  }
+  ~CpuLoad() {
+    for (const pid_t pid : pids_) ::kill(pid, SIGKILL), ::waitpid(pid, nullptr, 0);
+  }
+  CpuLoad(const CpuLoad&) = delete;
+  CpuLoad& operator=(const CpuLoad&) = delete;
+
+ private:
+  std::vector<pid_t> pids_;
 };
 
 // ambler-sim as a child process, stopped with the evaluation.
@@ -95,6 +121,7 @@ nlohmann::json evalLink(const EvalLinkArgs& a) {
   double images_per_s = 0.0, image_kb = 0.0;
   {
     SimChild sim(simProgram(a.sim), a.domain, dir / "keys.json");
+    const CpuLoad load(a.cpu_load);
     link::dds::DdsLink dds(a.domain, 1);
     missionlog::MissionLog log(dir / "mission.db", "eval link");
     missionlog::RecordingLink link(dds, log);
@@ -146,7 +173,9 @@ nlohmann::json evalLink(const EvalLinkArgs& a) {
         {"n", round_trip_ms.size()}}},
       {"round_trip_includes",
        "HMAC-SHA256 signing, mission log write of the command and of the ack (SQLite WAL, "
-       "synchronous=FULL), DDS both ways on loopback, verification in ambler-sim"},
+       "synchronous=FULL, one commit per batch received), DDS both ways on loopback, "
+       "verification in ambler-sim"},
+      {"cpu_load_processes", a.cpu_load},
       {"range_images_per_s", images_per_s},
       {"range_image_kb", image_kb},
       {"range_images_include", "ray casting in ambler-sim, DDS transfer, mission log write"},
@@ -171,6 +200,10 @@ void addEvalLink(CLI::App& eval, Evaluations& all) {
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
   cmd->add_option("--sim", args->sim, "ambler-sim to start (default: next to ambler-cli)");
+  cmd->add_option("--cpu-load", args->cpu_load,
+                  "CPU-bound processes (same priority) to run during the measurement")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON (the only output format)");
   cmd->callback([args] { printJson(evalLink(*args)); });
 }

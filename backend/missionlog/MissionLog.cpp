@@ -207,6 +207,19 @@ void MissionLog::record(double time_s, const link::Telemetry& m) {
                 link::encode(m));
 }
 
+void MissionLog::record(double time_s, const std::vector<link::Telemetry>& messages) {
+  if (messages.size() == 1) return record(time_s, messages.front());
+  if (messages.empty()) return;
+  db_.exec("BEGIN");
+  try {
+    for (const auto& m : messages) record(time_s, m);
+  } catch (...) {
+    db_.exec("ROLLBACK");
+    throw;
+  }
+  db_.exec("COMMIT");
+}
+
 void MissionLog::record(double time_s, const link::Command& c) {
   insertMessage(time_s, Direction::kToRover, link::typeName(c.body), c.rover_id, c.operator_id,
                 std::int64_t(c.sequence), link::encode(c));

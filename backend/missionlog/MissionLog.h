@@ -89,6 +89,9 @@ class MissionLog {
   MissionLog(const std::filesystem::path& path, const std::string& mission);
 
   void record(double time_s, const link::Telemetry& message);
+  // A batch as it came off the link, in one transaction: one sync to disk
+  // for all of it (a group commit), durable when this returns.
+  void record(double time_s, const std::vector<link::Telemetry>& messages);
   void record(double time_s, const link::Command& command);
   void record(const Decision& decision);
   void recordProduct(double time_s, const std::string& kind, const std::string& parameters_json,

@@ -34,7 +34,7 @@ void RecordingLink::send(const link::Command& command) {
 
 std::vector<link::Telemetry> RecordingLink::receive(std::chrono::milliseconds timeout) {
   auto messages = inner_.receive(timeout);
-  for (const auto& m : messages) log_.record(clock_(), m);
+  log_.record(clock_(), messages);
   return messages;
 }
 
