@@ -117,6 +117,9 @@ MainWindow::MainWindow(QWidget* parent)
   progress_->setRange(0, 0);  // busy indicator unless the work has a fraction to show
   progress_->setMaximumWidth(140);
   progress_->hide();
+  // The link's figures stay whole; a long message yields (its tooltip has
+  // it all).
+  status_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
   statusBar()->addWidget(status_, 1);
   statusBar()->addPermanentWidget(link_status_);
   statusBar()->addPermanentWidget(progress_);
@@ -304,6 +307,7 @@ void MainWindow::setBusy(const QString& what) {
 void MainWindow::setStatus(const QString& text) {
   status_text_ = text;
   status_->setText(text);
+  status_->setToolTip(text);
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {

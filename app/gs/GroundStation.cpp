@@ -300,9 +300,29 @@ void GroundStation::refreshTelemetry() {
     return;
   }
   window_.setLinkStatus(
-      age ? tr("%1: last data %2 s ago").arg(session_->linkDescription()).arg(*age, 0, 'f', 1)
-          : tr("%1: no data yet").arg(session_->linkDescription()),
+      (age ? tr("%1: last data %2 s ago").arg(session_->linkDescription()).arg(*age, 0, 'f', 1)
+           : tr("%1: no data yet").arg(session_->linkDescription())) +
+          linkFigures(state, now),
       stale && state.phase != executive::Phase::kIdle);
+}
+
+// What a delay hides: how old the rover's state in view is (its own clock,
+// UTC like the ground's), the command round trip, the commands not yet
+// answered, and who holds command authority.
+QString GroundStation::linkFigures(const WalkState& state, double now_s) const {
+  QStringList parts;
+  if (state.report.body)
+    parts << tr("state %1 s old").arg(now_s - state.report.body_time_s, 0, 'f', 1);
+  if (state.round_trip_s) parts << tr("round trip %1 ms").arg(*state.round_trip_s * 1e3, 0, 'f', 0);
+  parts << tr("%1 in flight").arg(state.commands_in_flight);
+  const auto who = [&](const std::string& console) {
+    return console == state.console ? tr("this console") : QString::fromStdString(console);
+  };
+  parts << (state.authority.empty() ? tr("authority: none")
+                                    : tr("authority: %1").arg(who(state.authority)));
+  if (!state.authority_request.empty())
+    parts << tr("%1 asks for it").arg(who(state.authority_request));
+  return " · " + parts.join(" · ");
 }
 
 void GroundStation::openLog(const QString& path) {

@@ -72,6 +72,7 @@ class GroundStation : public QObject {
   bool report(const Refusal& refusal);
   void showSession();
   void showWalkState();
+  QString linkFigures(const WalkState& state, double now_s) const;
   void refreshTelemetry();
   void showReplayAt(double time_s);
   void finishOpening();

@@ -208,6 +208,11 @@ class WalkWorker : public QObject {
     state->map = map_;
     state->rows = rows_;
     state->last_heard_s = health_.lastHeardS();
+    state->round_trip_s = executive_->roundTripS();
+    state->commands_in_flight = table_.awaiting();
+    state->authority = table_.authority();
+    state->authority_request = table_.authorityRequest();
+    state->console = signer_->console();
     tell([state = std::shared_ptr<const WalkState>(std::move(state))](WalkSession& s) {
       s.take(state);
     });

@@ -34,6 +34,12 @@ struct WalkState {
   std::shared_ptr<const std::vector<replay::LogRow>> rows =
       std::make_shared<const std::vector<replay::LogRow>>();
   std::optional<double> last_heard_s;  // ground clock; none before the rover spoke
+  // The link as the operator must judge it over a delay: the command round
+  // trip (smoothed), commands sent and not yet answered, who holds command
+  // authority ("alice@..."; this console is `console`) and who asks for it.
+  std::optional<double> round_trip_s;
+  std::size_t commands_in_flight = 0;
+  std::string authority, authority_request, console;
 };
 
 }  // namespace ambler::gs

@@ -34,6 +34,12 @@ class CommandTable {
   void noted(double time_s, const std::string& what);
 
   const std::vector<LogRow>& rows() const { return rows_; }
+  // Commands sent and not answered yet (heartbeats left out).
+  std::size_t awaiting() const { return open_.size(); }
+  // From the rover's newest heartbeat: the console holding command
+  // authority and one asking for it; empty: none.
+  const std::string& authority() const { return authority_; }
+  const std::string& authorityRequest() const { return authority_request_; }
   std::vector<LogRow> takeRows() { return std::move(rows_); }
 
  private:

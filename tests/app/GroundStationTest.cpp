@@ -127,6 +127,13 @@ class GroundStationTest : public QObject {
     QVERIFY2((after - before).norm() > 0.1, "the rover did not move");
     QVERIFY(!c.panel.approveButton()->isEnabled());
     QVERIFY(c.session().linkAgeS().has_value());
+    // What the status bar shows of the link: the round trip, nothing left
+    // in flight, and this console in command (it sent the moves).
+    QTRY_VERIFY_WITH_TIMEOUT(c.session().state().round_trip_s.has_value(), 5000);
+    QVERIFY(*c.session().state().round_trip_s > 0 && *c.session().state().round_trip_s < 1.0);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().state().commands_in_flight, std::size_t(0), 5000);
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().state().authority, c.session().state().console, 5000);
+    QVERIFY(c.session().state().console.rfind("alice@", 0) == 0);
     // A second walk from where the first ended.
     c.start(1);
     QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
