@@ -21,6 +21,8 @@ PACKAGES=(
   python-matplotlib-data
   # running the GUI and its tests without a monitor
   xvfb xauth libgl1-mesa-dri
+  # the network bench's namespaces and veth pairs (tests/network)
+  iproute2
 )
 
 missing=()
