@@ -205,6 +205,14 @@ void MainWindow::addMenus() {
   });
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+  auto* rover = menuBar()->addMenu(tr("&Rover"));
+  request_authority_ =
+      rover->addAction(tr("&Request command authority"), this, &MainWindow::authorityRequested);
+  request_authority_->setToolTip(
+      tr("Ask the console in command to hand it over; granted at once when none holds it"));
+  hand_over_ =
+      rover->addAction(tr("&Hand over command authority"), this, &MainWindow::handOverRequested);
+  hand_over_->setEnabled(false);
   auto* view = menuBar()->addMenu(tr("&View"));
   for (auto* dock : findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
   view->addSeparator();
@@ -291,6 +299,13 @@ void MainWindow::showDangerView() { views_->setCurrentWidget(danger_panel_); }
 void MainWindow::setLinkStatus(const QString& text, bool stale) {
   link_status_->setText(text);
   link_status_->setStyleSheet(stale ? "color:#b71c1c;font-weight:bold" : "");
+}
+
+void MainWindow::setAuthority(bool this_console_holds, const QString& asking) {
+  request_authority_->setEnabled(!this_console_holds && !replaying_);
+  hand_over_->setEnabled(this_console_holds && !asking.isEmpty() && !replaying_);
+  hand_over_->setText(asking.isEmpty() ? tr("&Hand over command authority")
+                                       : tr("&Hand over command authority to %1").arg(asking));
 }
 
 void MainWindow::showError(const QString& message) {

@@ -78,12 +78,20 @@ class MainWindow : public QMainWindow {
   void showMapView();
   // "simulator in this process: last data 0.4 s ago"; stale shows in red.
   void setLinkStatus(const QString& text, bool stale);
+  // Which authority action makes sense now: asking when another console
+  // (or none) holds it, handing over to `asking` when this one does.
+  void setAuthority(bool this_console_holds, const QString& asking);
+  QAction* requestAuthorityAction() const { return request_authority_; }
+  QAction* handOverAction() const { return hand_over_; }
 
  signals:
   void scanRequested(quint64 seed);
   void walkRequested();
   // The operator pressed Hold: stop the rover now.
   void holdRequested();
+  // Command authority: ask for it, or give it to the console asking.
+  void authorityRequested();
+  void handOverRequested();
   void scanShown();  // showScan() has put a scan in the views
   void connectRequested();
   void openLogRequested(const QString& path);
@@ -99,6 +107,8 @@ class MainWindow : public QMainWindow {
   QAction* scan_action_;
   QAction* walk_action_;
   QAction* hold_action_;
+  QAction* request_authority_ = nullptr;
+  QAction* hand_over_ = nullptr;
   StepApprovalPanel* approval_;
   MapView* map_view_;
   class SamplingPanel* sampling_;

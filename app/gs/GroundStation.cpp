@@ -88,6 +88,12 @@ void GroundStation::wireWindow() {
   connect(&window_, &widgets::MainWindow::holdRequested, this, [this] {
     if (session_ && !timeline_) session_->hold();
   });
+  connect(&window_, &widgets::MainWindow::authorityRequested, this, [this] {
+    if (session_ && !timeline_) session_->requestAuthority();
+  });
+  connect(&window_, &widgets::MainWindow::handOverRequested, this, [this] {
+    if (session_ && !timeline_) session_->handOver();
+  });
   connect(&window_, &widgets::MainWindow::openLogRequested, this, &GroundStation::openLog);
   connect(&window_, &widgets::MainWindow::connectRequested, this, [this] {
     widgets::ConnectDialog dialog(choice_, &window_);
@@ -290,6 +296,8 @@ void GroundStation::refreshTelemetry() {
   window_.telemetry()->setRover(sample);
   if (state.phase != executive::Phase::kIdle)
     window_.telemetry()->setModuleTiming(state.tasks, session_start_s_, now);
+  window_.setAuthority(!state.authority.empty() && state.authority == state.console,
+                       QString::fromStdString(state.authority_request));
   const auto age = session_->linkAgeS();
   const bool stale = !age || *age > 3.0;
   if (state.link_lost) {

@@ -138,6 +138,31 @@ class WalkWorker : public QObject {
     publish(true);
   }
 
+  void requestAuthority() {
+    tellRefusal(OperatorAction::kAuthority, sendSigned(link::RequestAuthority{}));
+    keepPolling();  // for the rover's heartbeat that tells who holds it
+    publish(true);
+  }
+
+  // Between two steps only: a step half carried out is the holder's to
+  // finish.
+  void handOver() {
+    const auto phase = executive_->phase();
+    Refusal refusal;
+    if (table_.authority() != signer_->console())
+      refusal = Refusal::because("this console does not hold command authority");
+    else if (table_.authorityRequest().empty())
+      refusal = Refusal::because("no console has asked for command authority");
+    else if (phase == executive::Phase::kExecuting || phase == executive::Phase::kScanning)
+      refusal = Refusal::because("the walk is " + executive::phaseName(phase) +
+                                 ": hand over once the step has ended");
+    else
+      refusal = sendSigned(link::HandOver{table_.authorityRequest()});
+    tellRefusal(OperatorAction::kAuthority, refusal);
+    keepPolling();
+    publish(true);
+  }
+
   void sendGrasp(const sampling::GraspPlan& plan, const std::string& detail,
                  const std::string& who) {
     const auto sent = trySendGrasp(plan, detail, who);
@@ -259,6 +284,19 @@ class WalkWorker : public QObject {
     return {};
   }
 
+  Refusal sendSigned(link::CommandBody body) {
+    link::Command command;
+    command.rover_id = rover_.rover_id;
+    command.body = std::move(body);
+    signer_->sign(command);
+    try {
+      link_->send(command);
+    } catch (const link::LinkError& e) {
+      return Refusal::because(link::typeName(command.body) + " not sent: " + e.what());
+    }
+    return {};
+  }
+
   void tellRefusal(OperatorAction action, const Refusal& refusal) {
     if (!refusal.refused()) return;
     tell([action, why = QString::fromStdString(refusal.why())](WalkSession& s) {
@@ -371,6 +409,14 @@ void WalkSession::resume() {
 
 void WalkSession::sendGrasp(const sampling::GraspPlan& plan, const std::string& detail) {
   ask([plan, detail, who = operator_id_](WalkWorker& w) { w.sendGrasp(plan, detail, who); });
+}
+
+void WalkSession::requestAuthority() {
+  ask([](WalkWorker& w) { w.requestAuthority(); });
+}
+
+void WalkSession::handOver() {
+  ask([](WalkWorker& w) { w.handOver(); });
 }
 
 }  // namespace ambler::gs

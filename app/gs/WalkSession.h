@@ -36,7 +36,15 @@ RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, s
                                     const std::optional<sim::DtmSource>& dtm = {});
 
 // What the operator asked for that may be refused.
-enum class OperatorAction { kConnect, kApprove, kReject, kEditFoothold, kAutoApprove, kGrasp };
+enum class OperatorAction {
+  kConnect,
+  kApprove,
+  kReject,
+  kEditFoothold,
+  kAutoApprove,
+  kGrasp,
+  kAuthority
+};
 
 class WalkWorker;
 
@@ -78,6 +86,10 @@ class WalkSession : public QObject {
   // checked against the rover's limits, logged, signed and sent (then
   // graspSent()). Refused while a walk is under way.
   void sendGrasp(const sampling::GraspPlan& plan, const std::string& detail);
+  // Command authority (link::CommandAuthority): ask for it; or, holding
+  // it, hand it to the console asking, between two steps only.
+  void requestAuthority();
+  void handOver();
 
   // The walk as last told; a state with nothing in it before the first.
   const WalkState& state() const { return *state_; }

@@ -36,11 +36,15 @@ struct Args {
 
 void run(const Args& a) {
   using namespace ambler;
+  // Before the course is built: a console may sign its first command while
+  // it is.
+  const double started_s = link::utcNowS();
   const auto config = rover::readInstalledSimulatedRoverConfig();
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
   options.course.seed = a.seed;
   options.link_timeout_s = a.link_timeout_s;
+  options.started_s = started_s;
   if (!a.dtm.empty()) {
     sim::DtmSource dtm{a.dtm,
                        {.width = a.dtm_size, .height = a.dtm_size, .resolution = a.dtm_resolution}};

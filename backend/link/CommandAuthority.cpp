@@ -43,6 +43,9 @@ Refusal CommandAuthority::admit(const Command& c, std::string& change) {
   return {};
 }
 
-void CommandAuthority::lapse() { holder_.clear(); }
+std::string CommandAuthority::lapse() {
+  holder_ = std::exchange(request_, {});
+  return holder_.empty() ? std::string() : holder_ + " took command authority (it had asked)";
+}
 
 }  // namespace ambler::link

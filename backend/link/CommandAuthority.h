@@ -6,7 +6,8 @@
 // that it changes hands only by an explicit exchange: the new console asks
 // (RequestAuthority), the holder hands over (HandOver naming it). HOLD is
 // accepted from any authenticated console. Authority lapses when the rover
-// holds for a lost link: the holder has gone silent.
+// holds for a lost link (the holder has gone silent), to a console that
+// asked for it if one did.
 
 #include <string>
 
@@ -22,8 +23,10 @@ class CommandAuthority {
   // `change` says how, for the rover's log ("alice@... took command
   // authority", ...), or stays empty.
   [[nodiscard]] Refusal admit(const Command& command, std::string& change);
-  // Nobody holds it any more (the holder's link was lost).
-  void lapse();
+  // The holder's link was lost: a console that had asked now holds it
+  // (the rover holds, so it must still Resume), else none does. Returns
+  // that change, or empty.
+  std::string lapse();
 
   bool held() const { return !holder_.empty(); }
   // consoleName()s; empty: none.

@@ -48,7 +48,7 @@ SimulatedRover::SimulatedRover(const SimulatedRoverConfig& config, SimulatedRove
       world_(makeWorld(config, options_)),
       odometry_(config.model, world_.rover().truth()),
       verifier_(options_.rover_id, options_.operators) {
-  verifier_.startedAt(link::utcNowS());
+  verifier_.startedAt(options_.started_s.value_or(link::utcNowS()));
 }
 
 link::Telemetry SimulatedRover::message(double now_s, link::TelemetryBody body) const {
@@ -69,8 +69,9 @@ std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
   why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
       << " s";
   holding_ = why.str();
-  if (authority_.held()) authority_change_ = authority_.holder() + " lost command authority";
-  authority_.lapse();
+  const std::string lost = authority_.held() ? authority_.holder() + " lost command authority" : "";
+  const std::string next = authority_.lapse();
+  authority_change_ = lost + (!lost.empty() && !next.empty() ? "; " : "") + next;
   return {heartbeat(now_s)};
 }
 

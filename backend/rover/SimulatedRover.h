@@ -53,6 +53,9 @@ struct SimulatedRoverOptions {
   // command lost on a long-delay link is resent a round trip later); 0:
   // never.
   double link_timeout_s = 3.0;
+  // When the rover's link started (UTC): commands signed before it are
+  // refused. Default: when the SimulatedRover is made.
+  std::optional<double> started_s;
   // Wall seconds per simulated second: moves and scans take this long
   // (their modelled duration times it) before they are answered; 0: at once.
   double time_scale = 0.0;

@@ -139,6 +139,80 @@ class RoverLossTest : public QObject {
     ::kill(sim, SIGTERM);
     ::waitpid(sim, nullptr, 0);
   }
+
+  // Two consoles on one rover (issue 30): the GUI walks, another console
+  // (ambler-cli drive --take-over) asks, the operator hands over from the
+  // Rover menu, the other console walks a step, and the GUI asks back.
+  void theOperatorHandsCommandAuthorityOverAndAsksForItBack() {
+    QTemporaryDir dir;
+    const std::string folder = dir.path().toStdString();
+    const ambler::link::OperatorKey alice{"alice", std::vector<std::uint8_t>(32, 7)},
+        bob{"bob", std::vector<std::uint8_t>(32, 8)};
+    ambler::link::writeOperatorKey(folder + "/alice.key", alice);
+    ambler::link::writeOperatorKey(folder + "/bob.key", bob);
+    std::ofstream(folder + "/operators.json")
+        << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
+        << ambler::link::keyHex(alice) << "\"}, {\"operator\": \"bob\", \"key_hex\": \""
+        << ambler::link::keyHex(bob) << "\"}]}";
+    const int domain = 20 + int((::getpid() + 97) % 200);
+    const pid_t sim = startSimulator(domain, folder + "/operators.json");
+
+    ambler::gs::GroundStation station(options(dir.path()));
+    station.window().show();
+    ambler::widgets::ConnectChoice choice;
+    choice.source = ambler::widgets::ConnectChoice::Source::kDds;
+    choice.domain = domain;
+    choice.key_file = dir.filePath("alice.key");
+    QCOMPARE(station.connectTo(choice).why(), std::string());
+    station.session()->setAutoApprove(true);
+    station.startWalk(1);
+    const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
+    QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kDone, 60000);
+    QTRY_COMPARE_WITH_TIMEOUT(walk().authority, walk().console, 5000);
+    auto* hand_over = station.window().handOverAction();
+    auto* ask = station.window().requestAuthorityAction();
+    QTRY_VERIFY(!ask->isEnabled());
+    QVERIFY(!hand_over->isEnabled());  // nobody asks
+
+    const pid_t other = ::fork();
+    if (other == 0) {
+      const std::string d = std::to_string(domain), key = folder + "/bob.key",
+                        log = folder + "/bob.sqlite", out = folder + "/bob.out";
+      std::freopen(out.c_str(), "w", stdout);
+      ::execl(AMBLER_CLI, AMBLER_CLI, "drive", "--domain", d.c_str(), "--key", key.c_str(), "--log",
+              log.c_str(), "--steps", "1", "--auto-approve", "--take-over", "--timeout", "60",
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    QTest::qWait(1500);  // discovery
+    ::kill(other, SIGUSR1);
+    QTRY_VERIFY_WITH_TIMEOUT(hand_over->isEnabled(), 10000);
+    QVERIFY2(hand_over->text().contains("bob@"), qPrintable(hand_over->text()));
+    hand_over->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(walk().authority.rfind("bob@", 0) == 0, 10000);
+    QTRY_VERIFY(ask->isEnabled());
+    const auto bob_said = [&] {
+      std::ifstream in(folder + "/bob.out");
+      return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    // Bob walked his step (his summary line says so).
+    QTRY_VERIFY2_WITH_TIMEOUT(bob_said().find("\"stopped\":\"done\"") != std::string::npos,
+                              bob_said().substr(0, 800).c_str(), 60000);
+    ::waitpid(other, nullptr, 0);
+    const QDir shots(AMBLER_SCREENSHOT_DIR);
+    QVERIFY(shots.mkpath("."));
+    QVERIFY(station.window().grab().save(shots.filePath("authority-handed-over.png")));
+
+    // Bob's console has gone: the rover holds once his heartbeats stop,
+    // and authority lapses with his link; the operator asks and has it.
+    QTRY_VERIFY_WITH_TIMEOUT(walk().rover_holding.rfind("link lost", 0) == 0, 10000);
+    QTRY_VERIFY_WITH_TIMEOUT(walk().authority.empty(), 5000);
+    ask->trigger();
+    QTRY_COMPARE_WITH_TIMEOUT(walk().authority, walk().console, 5000);
+    QTRY_VERIFY(!ask->isEnabled());
+    ::kill(sim, SIGTERM);
+    ::waitpid(sim, nullptr, 0);
+  }
 };
 
 QTEST_MAIN(RoverLossTest)

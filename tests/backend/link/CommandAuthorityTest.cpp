@@ -64,10 +64,14 @@ TEST(CommandAuthority, ItLapsesWithTheHoldersLinkAndTheNextConsoleTakesIt) {
   CommandAuthority authority;
   std::string change;
   ASSERT_FALSE(authority.admit(from("alice", 1, BodyMove{}), change).refused());
-  authority.lapse();
+  EXPECT_EQ(authority.lapse(), "");
   EXPECT_FALSE(authority.held());
   EXPECT_FALSE(authority.admit(from("bob", 2, Resume{}), change).refused());
   EXPECT_EQ(authority.holder(), kBob);
+  // A console that asked before the holder went silent has it then.
+  ASSERT_FALSE(authority.admit(from("alice", 1, RequestAuthority{}), change).refused());
+  EXPECT_EQ(authority.lapse(), kAlice + " took command authority (it had asked)");
+  EXPECT_EQ(authority.holder(), kAlice);
 }
 
 }  // namespace
