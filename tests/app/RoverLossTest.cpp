@@ -53,6 +53,20 @@ int firstRow(const ambler::widgets::CommandLogView& table, int from, const QStri
 
 using ambler::gs::test::options;
 
+// The station shown, connected over DDS with alice's key in `dir`,
+// auto-approving; empty, or why it could not connect.
+std::string connectAsAlice(ambler::gs::GroundStation& station, int domain,
+                           const QTemporaryDir& dir) {
+  station.window().show();
+  ambler::widgets::ConnectChoice choice;
+  choice.source = ambler::widgets::ConnectChoice::Source::kDds;
+  choice.domain = domain;
+  choice.key_file = dir.filePath("alice.key");
+  const auto refusal = station.connectTo(choice);
+  if (!refusal.refused()) station.session()->setAutoApprove(true);
+  return refusal.why();
+}
+
 }  // namespace
 
 class RoverLossTest : public QObject {
@@ -74,13 +88,7 @@ class RoverLossTest : public QObject {
 
     ambler::gs::GroundStation station(options(dir.path()));
     station.window().resize(1400, 900);
-    station.window().show();
-    ambler::widgets::ConnectChoice choice;
-    choice.source = ambler::widgets::ConnectChoice::Source::kDds;
-    choice.domain = domain;
-    choice.key_file = dir.filePath("alice.key");
-    QCOMPARE(station.connectTo(choice).why(), std::string());
-    station.session()->setAutoApprove(true);
+    QCOMPARE(connectAsAlice(station, domain, dir), std::string());
     station.startWalk(20);
     // The session's latest state, each time asked (a new one replaces it).
     const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
@@ -158,13 +166,7 @@ class RoverLossTest : public QObject {
     const pid_t sim = startSimulator(domain, folder + "/operators.json");
 
     ambler::gs::GroundStation station(options(dir.path()));
-    station.window().show();
-    ambler::widgets::ConnectChoice choice;
-    choice.source = ambler::widgets::ConnectChoice::Source::kDds;
-    choice.domain = domain;
-    choice.key_file = dir.filePath("alice.key");
-    QCOMPARE(station.connectTo(choice).why(), std::string());
-    station.session()->setAutoApprove(true);
+    QCOMPARE(connectAsAlice(station, domain, dir), std::string());
     station.startWalk(1);
     const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
     QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kDone, 60000);

@@ -207,31 +207,48 @@ class NetworkBench : public testing::Test {
     argv.insert(argv.end(), options.begin(), options.end());
     return start(node, argv, name);
   }
+  // The relay on `profile`, the rover, a console watching at ground-b and
+  // alice walking 10 steps at ground-a.
+  struct Walk {
+    Process &relay, &rover, &watcher, &walker;
+  };
+  Walk watchedWalk(const Profile& profile) {
+    auto& r = relay(profile);
+    auto& sim = rover();
+    auto& watcher = console("ground-b", "watcher", {"--watch"});
+    auto options = key("alice");
+    options.insert(options.end(), {"--steps", "10", "--auto-approve"});
+    return {r, sim, watcher, console("ground-a", "walker", options)};
+  }
   std::vector<std::string> key(const std::string& who) {
     return {"--key", (dir_ / (who + ".key")).string()};
   }
 
+  // The messages of type T a console's mission log received.
+  template <typename T>
+  std::vector<T> received(const std::string& name) const {
+    missionlog::MissionLogReader log(dir_ / (name + ".db"));
+    std::vector<T> out;
+    for (const auto& m : log.messages(-1e300, 1e300))
+      if (m.direction == missionlog::Direction::kFromRover) {
+        const auto message = link::decodeTelemetry(m.payload);
+        if (const auto* t = std::get_if<T>(&message.body)) out.push_back(*t);
+      }
+    return out;
+  }
   // The acknowledgements in a mission log, as "console#sequence: accepted".
   std::set<std::string> acksIn(const std::string& name) const {
-    missionlog::MissionLogReader log(dir_ / (name + ".db"));
     std::set<std::string> acks;
-    for (const auto& m : log.messages(-1e300, 1e300))
-      if (m.type == "CommandAck") {
-        const auto a = std::get<link::CommandAck>(link::decodeTelemetry(m.payload).body);
-        acks.insert(link::consoleName(a.operator_id, a.console_id) + "#" +
-                    std::to_string(a.sequence) + (a.accepted ? ": accepted" : ": refused"));
-      }
+    for (const auto& a : received<link::CommandAck>(name))
+      acks.insert(link::consoleName(a.operator_id, a.console_id) + "#" +
+                  std::to_string(a.sequence) + (a.accepted ? ": accepted" : ": refused"));
     return acks;
   }
   // The consoles a log saw hold command authority, in order.
   std::vector<std::string> authorityIn(const std::string& name) const {
-    missionlog::MissionLogReader log(dir_ / (name + ".db"));
     std::vector<std::string> holders;
-    for (const auto& m : log.messages(-1e300, 1e300))
-      if (m.type == "Heartbeat") {
-        const auto h = std::get<link::Heartbeat>(link::decodeTelemetry(m.payload).body);
-        if (holders.empty() || holders.back() != h.authority) holders.push_back(h.authority);
-      }
+    for (const auto& h : received<link::Heartbeat>(name))
+      if (holders.empty() || holders.back() != h.authority) holders.push_back(h.authority);
     return holders;
   }
 
@@ -255,12 +272,7 @@ class ProfileWalk : public NetworkBench, public testing::WithParamInterface<Prof
 
 TEST_P(ProfileWalk, TenStepsWithApprovalsCompleteAndEveryAckIsInBothConsolesLogs) {
   const Profile profile = GetParam();
-  auto& r = relay(profile);
-  auto& sim = rover();
-  auto& watcher = console("ground-b", "watcher", {"--watch"});
-  auto opts = key("alice");
-  opts.insert(opts.end(), {"--steps", "10", "--auto-approve"});
-  auto& walker = console("ground-a", "walker", opts);
+  auto [r, sim, watcher, walker] = watchedWalk(profile);
   ASSERT_EQ(walker.wait(std::chrono::seconds(600)), std::optional<int>(0)) << walker.text();
   const Json summary = walker.last();
   EXPECT_EQ(summary.value("steps_done", 0), 10) << summary;
@@ -293,12 +305,7 @@ INSTANTIATE_TEST_SUITE_P(Profiles, ProfileWalk, testing::Values(kLan, kFieldRadi
                          [](const auto& info) { return info.param.name; });
 
 TEST_F(NetworkBench, ATenSecondOutageMidWalkHoldsTheRoverUntilAnExplicitResume) {
-  auto& r = relay(kFieldRadio);
-  auto& sim = rover();
-  auto& watcher = console("ground-b", "watcher", {"--watch"});
-  auto opts = key("alice");
-  opts.insert(opts.end(), {"--steps", "10", "--auto-approve"});
-  auto& walker = console("ground-a", "walker", opts);
+  auto [r, sim, watcher, walker] = watchedWalk(kFieldRadio);
   ASSERT_TRUE(walker.waitFor([](const Json& j) { return ackOf(j, "BodyMove"); },
                              std::chrono::seconds(120)));
   std::this_thread::sleep_for(std::chrono::seconds(1));
