@@ -237,17 +237,18 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   while (stopped.empty()) {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
-    reportStaleness(c, now_s, start_s, stale);
+    // After the wait: what it heard is older than now, never newer.
+    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
     printEvents(now_s);
     stopped = stopReason(executive, gate, now_s - start_s, a.timeout_s);
     if (stopped.empty() && a.hand_over && handOverBetweenSteps(c, signer, gate, executive, a))
       stopped = "handed over to " + c.link.holder();
   }
-  // A suspended walk may have commands in flight (a link that came back
+  // A suspended walk may have commands in flight (a link that comes back
   // delivers them late): their answers, and the rover's word on holding,
-  // are waited for so that the log has them.
-  const double settle_until = missionlog::groundClockS() + 2 * executive.ackTimeoutS();
-  while (stopped == "suspended" && missionlog::groundClockS() < settle_until &&
+  // are waited for, as long as the console's timeout allows, so that the
+  // log has them.
+  while (stopped == "suspended" && missionlog::groundClockS() - start_s < a.timeout_s &&
          (c.link.unanswered() > 0 || c.health.stale(missionlog::groundClockS()))) {
     executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
     reportStaleness(c, missionlog::groundClockS(), start_s, stale);

@@ -304,14 +304,35 @@ TEST_P(ProfileWalk, TenStepsWithApprovalsCompleteAndEveryAckIsInBothConsolesLogs
 INSTANTIATE_TEST_SUITE_P(Profiles, ProfileWalk, testing::Values(kLan, kFieldRadio, kLunarRelay),
                          [](const auto& info) { return info.param.name; });
 
-TEST_F(NetworkBench, ATenSecondOutageMidWalkHoldsTheRoverUntilAnExplicitResume) {
-  auto [r, sim, watcher, walker] = watchedWalk(kFieldRadio);
+// Cuts the relay for `seconds` once the walker's first step has moved.
+void outageMidWalk(Process& relay, Process& walker, int seconds) {
   ASSERT_TRUE(walker.waitFor([](const Json& j) { return ackOf(j, "BodyMove"); },
                              std::chrono::seconds(120)));
   std::this_thread::sleep_for(std::chrono::seconds(1));
-  r.signal(SIGUSR1);  // the outage
-  std::this_thread::sleep_for(std::chrono::seconds(10));
-  r.signal(SIGUSR2);
+  relay.signal(SIGUSR1);
+  std::this_thread::sleep_for(std::chrono::seconds(seconds));
+  relay.signal(SIGUSR2);
+}
+
+// Shorter than the rover's link timeout: DDS resends what was lost, nobody
+// holds, the walk goes on.
+TEST_F(NetworkBench, ATwoSecondOutageIsRiddenOutWithoutAHold) {
+  auto [r, sim, watcher, walker] = watchedWalk(kFieldRadio);
+  outageMidWalk(r, walker, 2);
+  ASSERT_EQ(walker.wait(std::chrono::seconds(120)), std::optional<int>(0)) << walker.text();
+  EXPECT_EQ(walker.last().value("steps_done", 0), 10);
+  EXPECT_EQ(walker.last().value("unanswered", -1), 0);
+  EXPECT_EQ(sim.text().find("holds"), std::string::npos) << sim.text();
+  r.signal(SIGTERM);
+  r.wait(std::chrono::seconds(10));
+  EXPECT_GT(r.last().value("outage_dropped", 0), 0) << r.text();  // there was one
+}
+
+class LongOutage : public NetworkBench, public testing::WithParamInterface<int> {};
+
+TEST_P(LongOutage, MidWalkHoldsTheRoverUntilAnExplicitResume) {
+  auto [r, sim, watcher, walker] = watchedWalk(kFieldRadio);
+  outageMidWalk(r, walker, GetParam());
 
   // The walker says the link is stale within the rover's timeout (3 s),
   // and stops when it hears that the rover held.
@@ -334,6 +355,15 @@ TEST_F(NetworkBench, ATenSecondOutageMidWalkHoldsTheRoverUntilAnExplicitResume) 
   const int done = walker.last().value("steps_done", 0);
   EXPECT_GE(done, 1);
   EXPECT_LT(done, 10);
+  // What was in flight reached the rover after the outage, held: refused.
+  for (const auto& j : walker.lines())
+    if (j.contains("ack") && !j.value("accepted", true)) {
+      std::cout << "REFUSED_AFTER_OUTAGE " << j << std::endl;
+      const auto reason = j.value("reason", "");
+      EXPECT_TRUE(reason.find("holding") != std::string::npos ||
+                  reason.find("validity window") != std::string::npos)
+          << j;
+    }
 
   // The operator resumes explicitly; the walk goes on to 10 steps.
   auto resume_opts = key("alice");
@@ -353,6 +383,9 @@ TEST_F(NetworkBench, ATenSecondOutageMidWalkHoldsTheRoverUntilAnExplicitResume) 
   EXPECT_EQ(walker.last().value("unanswered", -1) + resumed.last().value("unanswered", -1), 0)
       << walker.last() << resumed.last();
 }
+
+INSTANTIATE_TEST_SUITE_P(Outages, LongOutage, testing::Values(10, 30),
+                         [](const auto& info) { return std::to_string(info.param) + "s"; });
 
 TEST_F(NetworkBench, ACommandDelayedPastItsValidityWindowIsRefusedOnBoard) {
   relay({"slow", 400, 0, 0});
