@@ -62,7 +62,8 @@ class ConsoleLink : public link::Link {
     auto in = inner_.receive(timeout);
     for (const auto& t : in) {
       if (const auto* a = std::get_if<link::CommandAck>(&t.body)) onAck(*a, t.time_s);
-      if (const auto* h = std::get_if<link::Heartbeat>(&t.body)) onHeartbeat(*h);
+      if (const auto* h = std::get_if<link::Heartbeat>(&t.body))
+        onHeartbeat(*h), last_heartbeat_s_ = t.time_s;
     }
     return in;
   }
@@ -70,6 +71,8 @@ class ConsoleLink : public link::Link {
 
   void approved(double now_s) { approved_s_ = now_s; }
   std::size_t unanswered() const { return unanswered_.size(); }
+  // The rover time of its newest heartbeat.
+  double lastHeartbeatS() const { return last_heartbeat_s_; }
   const std::string& holder() const { return holder_; }
   const std::string& request() const { return request_; }
 
@@ -117,6 +120,7 @@ class ConsoleLink : public link::Link {
   std::map<std::uint64_t, std::string> unanswered_;
   std::vector<double> latencies_s_;
   long sent_ = 0, acks_ = 0, refused_ = 0, others_acks_ = 0;
+  double last_heartbeat_s_ = -1e300;
 };
 
 // Everything a console has: its mission log, the DDS link recorded into
@@ -137,12 +141,13 @@ struct Console {
   ConsoleLink link;
 };
 
-// Prints the link turning stale or fresh (nothing heard for 3 s).
-void reportStaleness(Console& c, double now_s, double start_s, bool& stale) {
-  if (c.health.stale(now_s) == stale) return;
-  stale = !stale;
+// Prints the link's state at first, then each time it turns stale or
+// fresh (nothing heard for 3 s).
+void reportStaleness(Console& c, double now_s, double start_s, std::optional<bool>& stale) {
+  if (stale == c.health.stale(now_s)) return;
+  stale = c.health.stale(now_s);
   const auto age = c.health.ageS(now_s);
-  printLine({{"link", stale ? "stale" : "fresh"},
+  printLine({{"link", *stale ? "stale" : "fresh"},
              {"age_s", age ? nlohmann::json(*age) : nlohmann::json()},
              {"t_s", now_s - start_s}});
 }
@@ -158,7 +163,7 @@ void sendSigned(Console& c, link::CommandSigner& signer, std::uint32_t rover_id,
 
 // Watches and records until SIGTERM, the timeout, or (taking over) SIGUSR1.
 void watch(Console& c, const DriveArgs& a, double start_s, bool until_take_over) {
-  bool stale = false;
+  std::optional<bool> stale;
   while (!g_stop && !(until_take_over && g_take_over) &&
          missionlog::groundClockS() - start_s < a.timeout_s) {
     c.link.receive(std::chrono::milliseconds(50));
@@ -193,18 +198,25 @@ std::string stopReason(const executive::WalkExecutive& executive,
 }
 
 // Another console asks for authority: no new step is released; between two
-// steps (a proposal waiting, nothing in flight) authority goes to it.
+// steps (a proposal waiting, nothing in flight) authority goes to it. The
+// hand-over's acknowledgement and the heartbeat naming the new holder come
+// on different topics: both are waited for, so that the log has both.
 bool handOverBetweenSteps(Console& c, link::CommandSigner& signer, executive::ApprovalGate& gate,
-                          const executive::WalkExecutive& executive, const DriveArgs& a) {
+                          executive::WalkExecutive& executive, const DriveArgs& a) {
   if (c.link.request().empty() || c.link.holder() != signer.console()) return false;
   gate.setMode(executive::ApprovalMode::kOperator);
   if (executive.phase() != executive::Phase::kAwaitingDecision) return false;
   sendSigned(c, signer, a.rover_id, link::HandOver{c.link.request()});
   const double asked_s = missionlog::groundClockS();
-  while (c.link.holder() == signer.console() &&
+  while ((c.link.unanswered() > 0 || c.link.holder() == signer.console()) &&
          missionlog::groundClockS() - asked_s < executive.ackTimeoutS())
-    c.link.receive(std::chrono::milliseconds(50));
-  return c.link.holder() != signer.console();
+    executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
+  if (c.link.holder() != signer.console()) return true;
+  // Refused (the request went away): walk on, the waiting step released.
+  gate.setMode(executive::ApprovalMode::kAutoApprove);
+  if (const auto& pending = gate.pending(); pending && pending->interlocks.passed())
+    (void)gate.approve(pending->id, executive::kAutoApprover, missionlog::groundClockS());
+  return false;
 }
 
 int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double start_s) {
@@ -233,7 +245,7 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   // has the rover report it all again (and ends a hold).
   executive.start(missionlog::groundClockS(), a.resume || a.take_over);
   std::string stopped;
-  bool stale = false;
+  std::optional<bool> stale;
   while (stopped.empty()) {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
@@ -244,12 +256,18 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
     if (stopped.empty() && a.hand_over && handOverBetweenSteps(c, signer, gate, executive, a))
       stopped = "handed over to " + c.link.holder();
   }
-  // A suspended walk may have commands in flight (a link that comes back
-  // delivers them late): their answers, and the rover's word on holding,
-  // are waited for, as long as the console's timeout allows, so that the
-  // log has them.
-  while (stopped == "suspended" && missionlog::groundClockS() - start_s < a.timeout_s &&
-         (c.link.unanswered() > 0 || c.health.stale(missionlog::groundClockS()))) {
+  // Commands may still be in flight (a link that comes back delivers them
+  // late): their answers, and after a suspension the rover's word on
+  // holding (a heartbeat sent after it), are waited for, as long as the
+  // console's timeout allows, so that the log has them.
+  const double stopped_s = missionlog::groundClockS();
+  const auto settled = [&] {
+    const double now_s = missionlog::groundClockS();
+    return c.link.unanswered() == 0 &&
+           (stopped != "suspended" ||
+            (!c.health.stale(now_s) && c.link.lastHeartbeatS() >= stopped_s));
+  };
+  while (!settled() && missionlog::groundClockS() - start_s < a.timeout_s) {
     executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
     reportStaleness(c, missionlog::groundClockS(), start_s, stale);
     printEvents(missionlog::groundClockS());

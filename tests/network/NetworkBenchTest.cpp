@@ -216,6 +216,10 @@ class NetworkBench : public testing::Test {
     auto& r = relay(profile);
     auto& sim = rover();
     auto& watcher = console("ground-b", "watcher", {"--watch"});
+    // Acknowledgements are volatile: the watcher must have found the rover
+    // before the first command, or it never sees that one's answer.
+    EXPECT_TRUE(watcher.waitFor([](const Json& j) { return j.value("link", "") == "fresh"; },
+                                std::chrono::seconds(60)));
     auto options = key("alice");
     options.insert(options.end(), {"--steps", "10", "--auto-approve"});
     return {r, sim, watcher, console("ground-a", "walker", options)};
