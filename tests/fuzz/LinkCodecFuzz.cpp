@@ -17,7 +17,7 @@ void roundTrip(std::span<const std::uint8_t> bytes, Decode decode) {
 }
 
 std::vector<fuzz::Bytes> seeds() {
-  link::Telemetry heartbeat{1, 2.5, link::Heartbeat{7, true, "Hold from alice"}};
+  link::Telemetry heartbeat{1, 2.5, link::Heartbeat{7, true, "Hold from alice", {}, {}}};
   link::Telemetry body{1, 3.0, link::BodyState{1.0, 2.0, 2.4, 0.1, true}};
   sensor::RangeImage image;
   image.geometry.rows = 2, image.geometry.cols = 3;

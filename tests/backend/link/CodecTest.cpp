@@ -182,7 +182,7 @@ TEST(Codec, MalformedCommandsAreRefusedWithTheProblemNamed) {
   c.body = BodyMove{INFINITY, 0, 0, 0};
   expectRefused(encode(c), "body move x is not a finite number");
   // A telemetry message is not a command.
-  expectRefused(encode(Telemetry{1, 2.0, Heartbeat{5, false, {}}}), "expected a command");
+  expectRefused(encode(Telemetry{1, 2.0, Heartbeat{5, false, {}, {}, {}}}), "expected a command");
 }
 
 TEST(Codec, ARangeImageWhoseSizeDisagreesIsRefused) {

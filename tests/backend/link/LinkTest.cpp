@@ -21,7 +21,7 @@ class OneMessageLink : public Link {
   void send(const Command&) override {}
   std::vector<Telemetry> receive(std::chrono::milliseconds) override {
     if (++calls_ != 2) return {};
-    return {Telemetry{1, 0.0, Heartbeat{1, false, {}}}};
+    return {Telemetry{1, 0.0, Heartbeat{1, false, {}, {}, {}}}};
   }
   std::string describe() const override { return "one message"; }
 
@@ -52,7 +52,8 @@ TEST(WatchedLink, ShowsItsObserverWhatPassesBothWays) {
   WatchedLink link(inner, health, [] { return 0.0; },
                    {[&](const Command& c) { seen.push_back("sent " + typeName(c.body)); },
                     [&](const Telemetry& t) { seen.push_back("received " + typeName(t.body)); }});
-  link.send(Command{.rover_id = 1, .operator_id = "alice", .sequence = 1, .body = Hold{}});
+  link.send(
+      Command{.rover_id = 1, .operator_id = "alice", .sequence = 1, .body = Hold{}, .hmac = {}});
   link.receive(std::chrono::milliseconds(0));
   link.receive(std::chrono::milliseconds(0));
   EXPECT_EQ(seen, (std::vector<std::string>{"sent Hold", "received Heartbeat"}));

@@ -39,8 +39,8 @@ TEST_F(MissionLogTest, RecordsComeBackInTimeOrderAndAreSummarised) {
   const auto path = dir_ / "mission.sqlite";
   {
     MissionLog log(path, "course seed 1");
-    log.record(10.0, link::Telemetry{1, 9.9, link::Heartbeat{1, false, {}}});
-    log.record(11.0, link::Telemetry{1, 10.9, link::Heartbeat{2, true, "Hold from alice"}});
+    log.record(10.0, link::Telemetry{1, 9.9, link::Heartbeat{1, false, {}, {}, {}}});
+    log.record(11.0, link::Telemetry{1, 10.9, link::Heartbeat{2, true, "Hold from alice", {}, {}}});
     log.record(10.5, link::Telemetry{1, 10.4, link::BodyState{1, 2, 3, 0.1, false}});
     log.record(12.0, bodyMove(1));
     log.record(Decision{11.5, "alice", 1, Verdict::kApproved, "body move 0.5 m"});

@@ -6,7 +6,11 @@ namespace ambler::replay {
 namespace {
 
 link::Command command(std::uint64_t sequence, link::CommandBody body) {
-  return {.rover_id = 1, .operator_id = "alice", .sequence = sequence, .body = std::move(body)};
+  return {.rover_id = 1,
+          .operator_id = "alice",
+          .sequence = sequence,
+          .body = std::move(body),
+          .hmac = {}};
 }
 
 link::Telemetry ack(std::uint64_t sequence, bool accepted, std::string reason = {}) {
@@ -25,8 +29,8 @@ TEST(CommandTable, EachCommandIsAnsweredInItsOwnRow) {
   table.received(3.3, ack(3, true));  // an accepted heartbeat: nothing to show
   table.received(3.4, ack(4, false, "stale sequence"));
   table.received(3.5, ack(99, true));  // answers nothing this console sent
-  table.received(3.6, {1, 0.0, link::Heartbeat{7, true, "Hold from bob"}});
-  table.received(3.7, {1, 0.0, link::Heartbeat{8, true, "Hold from bob"}});
+  table.received(3.6, {1, 0.0, link::Heartbeat{7, true, "Hold from bob", {}, {}}});
+  table.received(3.7, {1, 0.0, link::Heartbeat{8, true, "Hold from bob", {}, {}}});
   table.decided({4.0, "alice", 7, missionlog::Verdict::kRejected, "foot near the trench"});
 
   const auto& rows = table.rows();

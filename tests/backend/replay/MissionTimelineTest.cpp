@@ -221,7 +221,7 @@ TEST(MissionTimeline, TheWalksEventsAreRowsOfTheTableAtTheirTime) {
   const auto path = dir / "events.sqlite";
   {
     missionlog::MissionLog log(path, "events");
-    log.record(1.0, link::Telemetry{1, 1.0, link::Heartbeat{1, false, {}}});
+    log.record(1.0, link::Telemetry{1, 1.0, link::Heartbeat{1, false, {}, {}, {}}});
     log.recordProduct(2.0, "event", R"({"what": "step suspended: step rejected by the operator"})");
     log.recordProduct(3.0, "event", R"({"what": "resumed: scanning and planning again"})");
   }
@@ -251,7 +251,7 @@ TEST(MissionTimeline, BadLogsAreNamedNotCrashedOn) {
   const auto path = dir / "bad.sqlite";
   {
     missionlog::MissionLog log(path, "bad");
-    log.record(1.0, link::Telemetry{1, 1.0, link::Heartbeat{1, false, {}}});
+    log.record(1.0, link::Telemetry{1, 1.0, link::Heartbeat{1, false, {}, {}, {}}});
     log.recordProduct(2.0, "elevation_map", "{\"origin_x\": 0, \"resolution\": 0.1}");
     missionlog::Database db(path, true);
     db.exec(
