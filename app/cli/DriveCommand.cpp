@@ -154,11 +154,7 @@ void reportStaleness(Console& c, double now_s, double start_s, std::optional<boo
 
 void sendSigned(Console& c, link::CommandSigner& signer, std::uint32_t rover_id,
                 link::CommandBody body) {
-  link::Command command;
-  command.rover_id = rover_id;
-  command.body = std::move(body);
-  signer.sign(command);
-  c.link.send(command);
+  c.link.send(signer.command(rover_id, std::move(body)));
 }
 
 // Watches and records until SIGTERM, the timeout, or (taking over) SIGUSR1.
@@ -246,12 +242,18 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   executive.start(missionlog::groundClockS(), a.resume || a.take_over);
   std::string stopped;
   std::optional<bool> stale;
-  while (stopped.empty()) {
+  // One turn of the console: poll, then say what changed. The staleness is
+  // judged after the poll's wait: what it heard is older than now, never
+  // newer.
+  const auto turn = [&] {
     const double now_s = missionlog::groundClockS();
     executive.poll(now_s, std::chrono::milliseconds(50));
-    // After the wait: what it heard is older than now, never newer.
     reportStaleness(c, missionlog::groundClockS(), start_s, stale);
     printEvents(now_s);
+    return now_s;
+  };
+  while (stopped.empty()) {
+    const double now_s = turn();
     stopped = stopReason(executive, gate, now_s - start_s, a.timeout_s);
     if (stopped.empty() && a.hand_over && handOverBetweenSteps(c, signer, gate, executive, a))
       stopped = "handed over to " + c.link.holder();
@@ -267,11 +269,7 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
            (stopped != "suspended" ||
             (!c.health.stale(now_s) && c.link.lastHeartbeatS() >= stopped_s));
   };
-  while (!settled() && missionlog::groundClockS() - start_s < a.timeout_s) {
-    executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
-    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
-    printEvents(missionlog::groundClockS());
-  }
+  while (!settled() && missionlog::groundClockS() - start_s < a.timeout_s) turn();
   auto summary = c.link.figures();
   summary.update({{"stopped", stopped},
                   {"steps_done", executive.stepsDone()},

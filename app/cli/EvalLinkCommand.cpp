@@ -130,10 +130,7 @@ nlohmann::json evalLink(const EvalLinkArgs& a) {
         link, [](const auto& t) { return std::holds_alternative<link::BodyState>(t.body); },
         std::chrono::seconds(20), "no state within 20 s");
     auto roundTrip = [&](link::CommandBody body) {
-      link::Command c;
-      c.rover_id = 1;
-      c.body = std::move(body);
-      signer.sign(c);
+      const link::Command c = signer.command(1, std::move(body));
       link.send(c);
       receiveUntil(
           link, [&](const auto& t) { return ackOf(t, c.sequence); }, std::chrono::seconds(10),
@@ -148,11 +145,7 @@ nlohmann::json evalLink(const EvalLinkArgs& a) {
     }
     const auto start = Clock::now();
     for (int i = 0; i < a.scans; ++i) {
-      link::Command c;
-      c.rover_id = 1;
-      c.body = link::AcquireScan{};
-      signer.sign(c);
-      link.send(c);
+      link.send(signer.command(1, link::AcquireScan{}));
       receiveUntil(
           link,
           [&](const auto& t) {

@@ -269,11 +269,7 @@ class WalkWorker : public QObject {
     log_.record(decision);
     table_.decided(decision);
     rows_changed_ = true;
-    link::Command command;
-    command.rover_id = rover_.rover_id;
-    command.time_s = nowS();
-    command.body = grasp;
-    signer_->sign(command);
+    const link::Command command = signer_->command(rover_.rover_id, grasp);
     grasp_row_ = table_.rows().size();  // the row the send is about to add
     try {
       link_->send(command);
@@ -285,10 +281,7 @@ class WalkWorker : public QObject {
   }
 
   Refusal sendSigned(link::CommandBody body) {
-    link::Command command;
-    command.rover_id = rover_.rover_id;
-    command.body = std::move(body);
-    signer_->sign(command);
+    const link::Command command = signer_->command(rover_.rover_id, std::move(body));
     try {
       link_->send(command);
     } catch (const link::LinkError& e) {

@@ -91,11 +91,7 @@ void WalkExecutive::note(double now_s, const std::string& what) {
 // the link's wait) is lost, and so is the link until the rover is heard
 // again; poll() then stops the walk.
 std::uint64_t WalkExecutive::send(link::CommandBody body, double now_s) {
-  link::Command c;
-  c.rover_id = opt_.rover_id;
-  c.time_s = now_s;
-  c.body = std::move(body);
-  signer_.sign(c);
+  const link::Command c = signer_.command(opt_.rover_id, std::move(body));
   last_sent_s_ = now_s;
   try {
     link_.send(c);

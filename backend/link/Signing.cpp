@@ -144,6 +144,14 @@ void CommandSigner::sign(Command& command) {
   command.hmac = hmacSha256(key_.key, signedContent(command));
 }
 
+Command CommandSigner::command(std::uint32_t rover_id, CommandBody body) {
+  Command c;
+  c.rover_id = rover_id;
+  c.body = std::move(body);
+  sign(c);
+  return c;
+}
+
 std::string CommandSigner::console() const { return consoleName(key_.operator_id, console_id_); }
 
 CommandVerifier::CommandVerifier(std::uint32_t rover_id, const std::vector<OperatorKey>& keys,

@@ -64,6 +64,8 @@ class CommandSigner {
   explicit CommandSigner(OperatorKey key, std::uint64_t next_sequence = 1,
                          SignerOptions options = {});
   void sign(Command& command);
+  // A command of `body` for rover `rover_id`, stamped and signed.
+  Command command(std::uint32_t rover_id, CommandBody body);
   const std::string& operatorId() const { return key_.operator_id; }
   std::uint64_t consoleId() const { return console_id_; }
   // consoleName() of this console.
