@@ -1,121 +1,376 @@
 #include "rendering/VtkView.h"
 
 #include <algorithm>
+#include <deque>
+#include <mutex>
+#include <utility>
 
 #include <vtkActor.h>
 #include <vtkActorCollection.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
 #include <vtkDataSet.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkMapper.h>
+#include <vtkNew.h>
 #include <vtkOpenGLFramebufferObject.h>
 #include <vtkProp.h>
+#include <vtkRenderer.h>
 
-#include <QEvent>
 #include <QMouseEvent>
+#include <QOffscreenSurface>
 #include <QOpenGLContext>
 #include <QOpenGLExtraFunctions>
+#include <QPainter>
 #include <QWheelEvent>
 
 namespace ambler::rendering {
 
-VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent) {
+// One mouse or wheel event for the interactor, in device pixels with y
+// down (the render thread flips it against the window's height).
+struct VtkView::Input {
+  unsigned long vtk_event = vtkCommand::NoEvent;
+  int x = -1, y = -1;  // none for Enter and Leave
+  bool ctrl = false, shift = false, alt = false;
+  int repeat = 0;
+};
+
+// Everything on the render thread: the OpenGL context, VTK's window,
+// interactor and scene. Its methods run there, queued by the view.
+class VtkView::Renderer : public QObject {
+ public:
+  Renderer(VtkView* view, QOffscreenSurface* surface) : view_(view), surface_(surface) {
+    window_->SetReadyForRendering(false);
+    window_->SetFrameBlitModeToNoBlit();
+    window_->AddRenderer(renderer_);
+    renderer_->SetBackground(0.12, 0.13, 0.15);
+    renderer_->SetBackground2(0.30, 0.33, 0.38);
+    renderer_->GradientBackgroundOn();
+    interactor_->SetRenderWindow(window_);
+    vtkNew<vtkInteractorStyleTrackballCamera> style;
+    interactor_->SetInteractorStyle(style);
+    observe(style.Get(), {vtkCommand::StartInteractionEvent, vtkCommand::EndInteractionEvent});
+    observe(window_.Get(), {vtkCommand::WindowMakeCurrentEvent, vtkCommand::WindowIsCurrentEvent,
+                            vtkCommand::WindowFrameEvent, vtkCommand::CursorChangedEvent});
+  }
+  ~Renderer() override { window_->RemoveAllObservers(); }
+
+  void start() {
+    context_ = std::make_unique<QOpenGLContext>();
+    context_->setFormat(surface_->requestedFormat());
+    if (!context_->create() || !context_->makeCurrent(surface_)) {
+      qWarning("VtkView: no OpenGL context for the 3-D view");
+      context_.reset();
+      return;
+    }
+    window_->SetOwnContext(0);
+    window_->SetReadyForRendering(true);
+    window_->OpenGLInitContext();
+    window_->SetMapped(1);
+    interactor_->Initialize();
+  }
+
+  void stop() {
+    renderer_->RemoveAllViewProps();
+    detail_.clear();
+    if (!context_) return;
+    context_->makeCurrent(surface_);
+    window_->Finalize();
+    window_->SetReadyForRendering(false);
+    context_->doneCurrent();
+    context_.reset();
+  }
+
+  void apply(std::vector<SceneChange> changes, bool draw) {
+    for (auto& change : changes) change(*renderer_);
+    if (draw) ask();
+  }
+
+  void resize(int w, int h) {
+    interactor_->UpdateSize(std::max(1, w), std::max(1, h));
+    ask();
+  }
+
+  void setShown(bool shown) {
+    shown_ = shown;
+    if (shown_ && asked_) postRender();
+  }
+
+  QImage renderNow() {
+    if (!context_) return {};
+    interactor_->Render();
+    framed_ = false;
+    QImage frame = readBack();
+    if (!frame.isNull()) publish(frame);
+    return frame;
+  }
+
+  // From the GUI thread: successive moves merge into the latest, so a
+  // drag never queues more frames than the render thread can draw.
+  void post(const Input& input) {
+    std::lock_guard lock(inputs_mutex_);
+    const bool move = input.vtk_event == vtkCommand::MouseMoveEvent;
+    if (move && !inputs_.empty() && inputs_.back().vtk_event == vtkCommand::MouseMoveEvent)
+      inputs_.back() = input;
+    else
+      inputs_.push_back(input);
+    if (std::exchange(drain_posted_, true)) return;
+    QMetaObject::invokeMethod(
+        this, [this] { drain(); }, Qt::QueuedConnection);
+  }
+
+  void add(const vtkSmartPointer<vtkProp>& prop) { renderer_->AddViewProp(prop); }
+
+  void addWithStandIn(const vtkSmartPointer<vtkProp>& detailed,
+                      const vtkSmartPointer<vtkProp>& stand_in) {
+    renderer_->AddViewProp(detailed);
+    renderer_->AddViewProp(stand_in);
+    detailed->SetVisibility(!moving_);
+    stand_in->SetVisibility(moving_);
+    detail_.emplace_back(detailed, stand_in);
+  }
+
+  void remove(vtkProp* prop) {
+    renderer_->RemoveViewProp(prop);
+    const auto pair = std::find_if(detail_.begin(), detail_.end(), [prop](const auto& p) {
+      return p.first == prop || p.second == prop;
+    });
+    if (pair == detail_.end()) return;
+    renderer_->RemoveViewProp(pair->first == prop ? pair->second : pair->first);
+    detail_.erase(pair);
+  }
+
+  void clear() {
+    renderer_->RemoveAllViewProps();
+    detail_.clear();
+  }
+
+  void setMoving(bool moving) {
+    if (moving == moving_) return;
+    moving_ = moving;
+    view_->camera_moving_ = moving;
+    for (auto& [detailed, stand_in] : detail_) {
+      detailed->SetVisibility(!moving);
+      stand_in->SetVisibility(moving);
+    }
+    if (!moving) ask();  // the full detail once the camera rests
+  }
+
+ private:
+  template <typename Subject>
+  void observe(Subject* subject, std::initializer_list<unsigned long> events) {
+    auto* callback = vtkCallbackCommand::New();
+    callback->SetClientData(this);
+    callback->SetCallback([](vtkObject*, unsigned long id, void* self, void* data) {
+      static_cast<Renderer*>(self)->onEvent(id, data);
+    });
+    for (auto id : events) subject->AddObserver(id, callback);
+    callback->Delete();
+  }
+
+  void onEvent(unsigned long id, void* data) {
+    switch (id) {
+      case vtkCommand::StartInteractionEvent:
+      case vtkCommand::EndInteractionEvent:
+        setMoving(id == vtkCommand::StartInteractionEvent);
+        break;
+      case vtkCommand::WindowMakeCurrentEvent:
+        if (context_) context_->makeCurrent(surface_);
+        break;
+      case vtkCommand::WindowIsCurrentEvent: {
+        const auto* current = QOpenGLContext::currentContext();
+        *static_cast<bool*>(data) =
+            context_ && current == context_.get() && current->surface() == surface_;
+        break;
+      }
+      case vtkCommand::WindowFrameEvent:
+        framed_ = true;
+        break;
+      case vtkCommand::CursorChangedEvent: {
+        const bool hand = *static_cast<int*>(data) == VTK_CURSOR_HAND;
+        QMetaObject::invokeMethod(
+            view_,
+            [view = view_, hand] {
+              view->setCursor(hand ? Qt::PointingHandCursor : Qt::ArrowCursor);
+            },
+            Qt::QueuedConnection);
+        break;
+      }
+      default:
+        break;
+    }
+  }
+
+  void ask() {
+    asked_ = true;
+    if (shown_) postRender();
+  }
+
+  void postRender() {
+    if (std::exchange(render_posted_, true)) return;
+    QMetaObject::invokeMethod(
+        this, [this] { renderIfAsked(); }, Qt::QueuedConnection);
+  }
+
+  void renderIfAsked() {
+    render_posted_ = false;
+    if (!asked_ || !shown_) return;
+    asked_ = false;
+    renderNow();
+  }
+
+  void drain() {
+    std::deque<Input> inputs;
+    {
+      std::lock_guard lock(inputs_mutex_);
+      inputs.swap(inputs_);
+      drain_posted_ = false;
+    }
+    for (const auto& in : inputs) {
+      if (in.x >= 0) {
+        interactor_->SetEventInformationFlipY(in.x, in.y, in.ctrl, in.shift);
+        interactor_->SetAltKey(in.alt);
+      }
+      if (in.vtk_event != vtkCommand::MouseMoveEvent) interactor_->SetRepeatCount(in.repeat);
+      interactor_->InvokeEvent(in.vtk_event, nullptr);
+    }
+    // The interactor style rendered (the camera moved): show it.
+    if (std::exchange(framed_, false) && context_) {
+      QImage frame = readBack();
+      if (!frame.isNull()) publish(frame);
+    }
+  }
+
+  // VTK's display framebuffer, top row first, opaque.
+  QImage readBack() {
+    auto* fbo = window_->GetDisplayFramebuffer();
+    const int* size = window_->GetSize();
+    if (!fbo || size[0] < 1 || size[1] < 1) return {};
+    QImage frame(size[0], size[1], QImage::Format_RGB32);
+    fbo->Bind(GL_READ_FRAMEBUFFER);
+    fbo->ActivateReadBuffer(0);
+    context_->extraFunctions()->glReadPixels(0, 0, size[0], size[1], GL_BGRA, GL_UNSIGNED_BYTE,
+                                             frame.bits());
+    fbo->UnBind(GL_READ_FRAMEBUFFER);
+    // VTK leaves the background's alpha below one; an RGB32 image must be
+    // opaque.
+    for (int y = 0; y < frame.height(); ++y) {
+      auto* row = reinterpret_cast<quint32*>(frame.scanLine(y));
+      for (int x = 0; x < frame.width(); ++x) row[x] |= 0xff000000u;
+    }
+    frame.mirror();
+    return frame;
+  }
+
+  void publish(const QImage& frame) {
+    QMetaObject::invokeMethod(
+        view_, [view = view_, frame] { view->showFrame(frame); }, Qt::QueuedConnection);
+  }
+
+  VtkView* view_;
+  QOffscreenSurface* surface_;
+  std::unique_ptr<QOpenGLContext> context_;
+  vtkNew<vtkGenericOpenGLRenderWindow> window_;
+  vtkNew<vtkGenericRenderWindowInteractor> interactor_;
+  vtkNew<vtkRenderer> renderer_;
+  std::vector<std::pair<vtkSmartPointer<vtkProp>, vtkSmartPointer<vtkProp>>> detail_;
+  bool moving_ = false, shown_ = false, asked_ = false, render_posted_ = false, framed_ = false;
+  std::mutex inputs_mutex_;
+  std::deque<Input> inputs_;
+  bool drain_posted_ = false;  // guarded by inputs_mutex_
+};
+
+VtkView::VtkView(QWidget* parent) : QWidget(parent), surface_(new QOffscreenSurface) {
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);
   setMinimumSize(160, 120);
-
-  window_->SetReadyForRendering(false);
-  window_->SetFrameBlitModeToNoBlit();
-  window_->AddRenderer(renderer_);
-  renderer_->SetBackground(0.12, 0.13, 0.15);
-  renderer_->SetBackground2(0.30, 0.33, 0.38);
-  renderer_->GradientBackgroundOn();
-
-  interactor_->SetRenderWindow(window_);
-  vtkNew<vtkInteractorStyleTrackballCamera> style;
-  interactor_->SetInteractorStyle(style);
-  interactor_->Initialize();
-  auto* moving = vtkCallbackCommand::New();
-  moving->SetClientData(this);
-  moving->SetCallback([](vtkObject*, unsigned long id, void* self, void*) {
-    static_cast<VtkView*>(self)->setCameraMoving(id == vtkCommand::StartInteractionEvent);
-  });
-  style->AddObserver(vtkCommand::StartInteractionEvent, moving);
-  style->AddObserver(vtkCommand::EndInteractionEvent, moving);
-  moving->Delete();
-
-  auto* callback = vtkCallbackCommand::New();
-  callback->SetClientData(this);
-  callback->SetCallback([](vtkObject* caller, unsigned long id, void* self, void* data) {
-    static_cast<VtkView*>(self)->onRenderWindowEvent(caller, id, data);
-  });
-  for (auto id : {vtkCommand::WindowMakeCurrentEvent, vtkCommand::WindowIsCurrentEvent,
-                  vtkCommand::WindowFrameEvent, vtkCommand::CursorChangedEvent})
-    window_->AddObserver(id, callback);
-  callback->Delete();
+  setAttribute(Qt::WA_OpaquePaintEvent);
+  surface_->setFormat(defaultFormat());
+  surface_->create();
+  renderer_ = std::make_unique<Renderer>(this, surface_);
+  renderer_->moveToThread(&thread_);
+  thread_.setObjectName("3-D view");
+  thread_.start();
+  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get()] { r->start(); });
 }
 
 VtkView::~VtkView() {
-  // Disconnect first: finalising through aboutToBeDestroyed during our own
-  // destruction would touch a half-destroyed widget (crash on exit).
-  disconnect(context_connection_);
-  makeCurrent();
-  releaseGraphics();
-  doneCurrent();
-  window_->RemoveAllObservers();
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get()] { r->stop(); }, Qt::BlockingQueuedConnection);
+  thread_.quit();
+  thread_.wait();
+  renderer_.reset();
+  delete surface_;
 }
 
-vtkRenderer* VtkView::renderer() const { return renderer_.Get(); }
+void VtkView::edit(SceneChange change) { queued_.push_back(std::move(change)); }
 
-vtkGenericOpenGLRenderWindow* VtkView::renderWindow() const { return window_.Get(); }
+void VtkView::flush() {
+  if (queued_.empty()) return;
+  QMetaObject::invokeMethod(renderer_.get(),
+                            [r = renderer_.get(), changes = std::exchange(queued_, {})]() mutable {
+                              r->apply(std::move(changes), false);
+                            });
+}
 
 void VtkView::render() {
-  render_pending_ = true;
-  update();
+  QMetaObject::invokeMethod(renderer_.get(),
+                            [r = renderer_.get(), changes = std::exchange(queued_, {})]() mutable {
+                              r->apply(std::move(changes), true);
+                            });
 }
 
-void VtkView::addWithStandIn(vtkProp* detailed, vtkProp* stand_in) {
-  renderer_->AddViewProp(detailed);
-  renderer_->AddViewProp(stand_in);
-  detailed->SetVisibility(!camera_moving_);
-  stand_in->SetVisibility(camera_moving_);
-  detail_.emplace_back(detailed, stand_in);
+void VtkView::inspect(const SceneChange& query) {
+  flush();
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get(), &query] { r->apply({query}, false); },
+      Qt::BlockingQueuedConnection);
+}
+
+QImage VtkView::renderedImage() {
+  flush();
+  QImage frame;
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get(), &frame] { frame = r->renderNow(); },
+      Qt::BlockingQueuedConnection);
+  if (!frame.isNull()) showFrame(frame);
+  return frame;
+}
+
+void VtkView::add(vtkSmartPointer<vtkProp> prop) {
+  edit([r = renderer_.get(), prop = std::move(prop)](vtkRenderer&) { r->add(prop); });
+}
+
+void VtkView::addWithStandIn(vtkSmartPointer<vtkProp> detailed, vtkSmartPointer<vtkProp> stand_in) {
+  edit([r = renderer_.get(), detailed = std::move(detailed),
+        stand_in = std::move(stand_in)](vtkRenderer&) { r->addWithStandIn(detailed, stand_in); });
 }
 
 void VtkView::remove(vtkProp* prop) {
-  renderer_->RemoveViewProp(prop);
-  const auto pair = std::find_if(detail_.begin(), detail_.end(), [prop](const auto& p) {
-    return p.first == prop || p.second == prop;
-  });
-  if (pair == detail_.end()) return;
-  renderer_->RemoveViewProp(pair->first == prop ? pair->second : pair->first);
-  detail_.erase(pair);
+  edit([r = renderer_.get(), prop](vtkRenderer&) { r->remove(prop); });
 }
 
 void VtkView::clear() {
-  renderer_->RemoveAllViewProps();
-  detail_.clear();
-}
-
-long long VtkView::visibleCells() const {
-  long long cells = 0;
-  auto* actors = renderer_->GetActors();
-  actors->InitTraversal();
-  while (vtkActor* actor = actors->GetNextActor())
-    if (actor->GetVisibility() && actor->GetMapper() && actor->GetMapper()->GetInput())
-      cells += actor->GetMapper()->GetInput()->GetNumberOfCells();
-  return cells;
+  edit([r = renderer_.get()](vtkRenderer&) { r->clear(); });
 }
 
 void VtkView::setCameraMoving(bool moving) {
-  if (moving == camera_moving_) return;
-  camera_moving_ = moving;
-  for (auto& [detailed, stand_in] : detail_) {
-    detailed->SetVisibility(!moving);
-    stand_in->SetVisibility(moving);
-  }
-  if (!moving) render();  // the full detail once the camera rests
+  edit([r = renderer_.get(), moving](vtkRenderer&) { r->setMoving(moving); });
+  flush();
+}
+
+long long VtkView::visibleCells() {
+  long long cells = 0;
+  inspect([&cells](vtkRenderer& renderer) {
+    auto* actors = renderer.GetActors();
+    actors->InitTraversal();
+    while (vtkActor* actor = actors->GetNextActor())
+      if (actor->GetVisibility() && actor->GetMapper() && actor->GetMapper()->GetInput())
+        cells += actor->GetMapper()->GetInput()->GetNumberOfCells();
+  });
+  return cells;
 }
 
 QSurfaceFormat VtkView::defaultFormat() {
@@ -134,102 +389,61 @@ QSurfaceFormat VtkView::defaultFormat() {
   return format;
 }
 
-void VtkView::initializeGL() {
-  surface_ = context()->surface();
-  context_connection_ = connect(
-      context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] { releaseGraphics(); },
-      Qt::DirectConnection);
-  window_->SetOwnContext(0);
-  window_->SetReadyForRendering(true);
-  window_->OpenGLInitContext();
-  window_->SetMapped(1);
-  render_pending_ = true;
-}
-
-void VtkView::releaseGraphics() {
-  if (!surface_) return;
-  window_->Finalize();
-  window_->SetReadyForRendering(false);
-  surface_ = nullptr;
-}
-
-void VtkView::resizeGL(int w, int h) {
-  const double dpr = devicePixelRatioF();
-  interactor_->UpdateSize(int(w * dpr), int(h * dpr));
-  render_pending_ = true;
-}
-
-void VtkView::paintGL() {
-  if (!surface_) return;
-  in_paint_ = true;
-  if (render_pending_) interactor_->Render();
-  render_pending_ = false;
-  in_paint_ = false;
-
-  // Blit VTK's display framebuffer into the widget's framebuffer.
-  auto* f = context()->extraFunctions();
-  f->glBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
-  const GLenum attachment = GL_COLOR_ATTACHMENT0;
-  f->glDrawBuffers(1, &attachment);
-  const int* size = window_->GetRenderFramebuffer()->GetLastSize();
-  window_->BlitDisplayFramebuffer(0, 0, 0, size[0], size[1], 0, 0, size[0], size[1],
-                                  GL_COLOR_BUFFER_BIT, GL_LINEAR);
-  // Opaque alpha, or Mesa blends the widget with what lies behind it.
-  f->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
-  f->glClearColor(0, 0, 0, 1);
-  f->glClear(GL_COLOR_BUFFER_BIT);
-  f->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+void VtkView::showFrame(QImage frame) {
+  frame.setDevicePixelRatio(devicePixelRatioF());
+  frame_ = std::move(frame);
+  update();
   emit frameRendered();
 }
 
-void VtkView::onRenderWindowEvent(vtkObject*, unsigned long event_id, void* call_data) {
-  switch (event_id) {
-    case vtkCommand::WindowMakeCurrentEvent:
-      // Not QOpenGLWidget::makeCurrent(): that re-binds Qt's framebuffer
-      // while VTK builds its own (black image, GL_INVALID_FRAMEBUFFER_OPERATION).
-      if (surface_) context()->makeCurrent(surface_);
-      break;
-    case vtkCommand::WindowIsCurrentEvent: {
-      const auto* current = QOpenGLContext::currentContext();
-      *static_cast<bool*>(call_data) =
-          surface_ && current == context() && current->surface() == surface_;
-      break;
-    }
-    case vtkCommand::WindowFrameEvent:
-      // VTK rendered outside paintGL (e.g. the camera moved): show it.
-      render_pending_ = false;
-      if (!in_paint_) update();
-      break;
-    case vtkCommand::CursorChangedEvent:
-      setCursor(*static_cast<int*>(call_data) == VTK_CURSOR_HAND ? Qt::PointingHandCursor
-                                                                 : Qt::ArrowCursor);
-      break;
-    default:
-      break;
-  }
+void VtkView::paintEvent(QPaintEvent*) {
+  QPainter painter(this);
+  if (frame_.isNull()) return painter.fillRect(rect(), QColor(31, 33, 38));
+  // A frame drawn before a resize is stretched until the next one comes.
+  painter.drawImage(rect(), frame_);
 }
+
+void VtkView::resizeEvent(QResizeEvent* e) {
+  QWidget::resizeEvent(e);
+  const double dpr = devicePixelRatioF();
+  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get(), w = int(width() * dpr),
+                                              h = int(height() * dpr)] { r->resize(w, h); });
+}
+
+void VtkView::showEvent(QShowEvent* e) {
+  QWidget::showEvent(e);
+  flush();
+  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get()] { r->setShown(true); });
+}
+
+void VtkView::hideEvent(QHideEvent* e) {
+  QWidget::hideEvent(e);
+  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get()] { r->setShown(false); });
+}
+
+void VtkView::send(const Input& input) { renderer_->post(input); }
 
 bool VtkView::event(QEvent* e) {
   const bool handled = forwardToInteractor(e);
-  return QOpenGLWidget::event(e) || handled;
+  return QWidget::event(e) || handled;
 }
 
 bool VtkView::forwardToInteractor(QEvent* e) {
   const double dpr = devicePixelRatioF();
-  auto set_position = [&](const QPointF& p, Qt::KeyboardModifiers m) {
-    interactor_->SetEventInformationFlipY(int(p.x() * dpr), int(p.y() * dpr),
-                                          (m & Qt::ControlModifier) ? 1 : 0,
-                                          (m & Qt::ShiftModifier) ? 1 : 0);
-    interactor_->SetAltKey((m & Qt::AltModifier) ? 1 : 0);
+  auto at = [&](const QPointF& p, Qt::KeyboardModifiers m, unsigned long id) {
+    Input in;
+    in.vtk_event = id;
+    in.x = int(p.x() * dpr), in.y = int(p.y() * dpr);
+    in.ctrl = m & Qt::ControlModifier, in.shift = m & Qt::ShiftModifier;
+    in.alt = m & Qt::AltModifier;
+    return in;
   };
   switch (e->type()) {
     case QEvent::MouseButtonPress:
     case QEvent::MouseButtonRelease:
     case QEvent::MouseButtonDblClick: {
       auto* m = static_cast<QMouseEvent*>(e);
-      set_position(m->position(), m->modifiers());
       const bool press = e->type() != QEvent::MouseButtonRelease;
-      if (press) interactor_->SetRepeatCount(e->type() == QEvent::MouseButtonDblClick ? 1 : 0);
       unsigned long id = 0;
       switch (m->button()) {
         case Qt::LeftButton:
@@ -244,34 +458,36 @@ bool VtkView::forwardToInteractor(QEvent* e) {
         default:
           return false;
       }
-      interactor_->InvokeEvent(id, e);
+      Input in = at(m->position(), m->modifiers(), id);
+      in.repeat = e->type() == QEvent::MouseButtonDblClick ? 1 : 0;
+      send(in);
       return true;
     }
     case QEvent::MouseMove: {
       auto* m = static_cast<QMouseEvent*>(e);
-      set_position(m->position(), m->modifiers());
-      interactor_->InvokeEvent(vtkCommand::MouseMoveEvent, e);
+      send(at(m->position(), m->modifiers(), vtkCommand::MouseMoveEvent));
       return true;
     }
     case QEvent::Wheel: {
       auto* w = static_cast<QWheelEvent*>(e);
-      set_position(w->position(), w->modifiers());
       wheel_accumulator_ += w->angleDelta().y();
       // One zoom step per notch (120 units), however the device splits it.
       while (std::abs(wheel_accumulator_) >= 120) {
         const bool forward = wheel_accumulator_ > 0;
-        interactor_->InvokeEvent(
-            forward ? vtkCommand::MouseWheelForwardEvent : vtkCommand::MouseWheelBackwardEvent, e);
+        send(
+            at(w->position(), w->modifiers(),
+               forward ? vtkCommand::MouseWheelForwardEvent : vtkCommand::MouseWheelBackwardEvent));
         wheel_accumulator_ -= forward ? 120 : -120;
       }
       return true;
     }
     case QEvent::Enter:
-      interactor_->InvokeEvent(vtkCommand::EnterEvent, e);
+    case QEvent::Leave: {
+      Input in;
+      in.vtk_event = e->type() == QEvent::Enter ? vtkCommand::EnterEvent : vtkCommand::LeaveEvent;
+      send(in);
       return false;
-    case QEvent::Leave:
-      interactor_->InvokeEvent(vtkCommand::LeaveEvent, e);
-      return false;
+    }
     default:
       return false;
   }

@@ -1,82 +1,106 @@
 #pragma once
 
-#include <vtkGenericOpenGLRenderWindow.h>
-#include <vtkGenericRenderWindowInteractor.h>
-#include <vtkNew.h>
-#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
 
-#include <QOpenGLWidget>
-#include <QSurface>
+#include <QImage>
 #include <QSurfaceFormat>
-#include <utility>
+#include <QThread>
+#include <QWidget>
+#include <atomic>
+#include <functional>
+#include <memory>
 #include <vector>
 
+class QOffscreenSurface;
 class vtkProp;
+class vtkRenderer;
 
 namespace ambler::rendering {
 
-// A VTK render window inside a Qt6 widget. Debian's VTK Qt module is built
-// on Qt5, so this is the project's own adapter (STACK.md): VTK renders into
-// its own framebuffer in Qt's context, and paintGL blits it into the
-// widget's framebuffer. Mouse and wheel events drive a trackball camera.
-class VtkView : public QOpenGLWidget {
+// A VTK scene drawn on its own render thread and shown in a plain widget.
+// Debian's VTK Qt module is built on Qt5, so this is the project's own
+// adapter (STACK.md). VTK renders into its framebuffers in an OpenGL
+// context on an offscreen surface owned by the render thread; each frame
+// is read back and the widget paints it as an image. The GUI thread never
+// waits for a frame (llvmpipe takes 20-30 ms for the walk's map), and no
+// OpenGL widget forces the whole window through OpenGL composition.
+//
+// The scene (renderer, actors, camera) belongs to the render thread: the
+// GUI thread builds props and hands them over through edit(), and reads
+// the scene only through inspect(). Mouse and wheel events drive a
+// trackball camera there.
+class VtkView : public QWidget {
   Q_OBJECT
 
  public:
+  using SceneChange = std::function<void(vtkRenderer&)>;
+
   explicit VtkView(QWidget* parent = nullptr);
   ~VtkView() override;
 
-  vtkRenderer* renderer() const;
-  vtkGenericOpenGLRenderWindow* renderWindow() const;
-
-  // Schedules a VTK render of the scene (after changing actors or camera).
+  // Queues `change` to run on the render thread, in order, before the
+  // next frame; render() sends what is queued and asks for a frame.
+  void edit(SceneChange change);
+  // Sends the queued changes and draws a frame once the render thread is
+  // free (frames asked for meanwhile are drawn once).
   void render();
+  // Sends the queued changes, runs `query` on the render thread after
+  // them and waits for it (tests, measurements, never a workflow).
+  void inspect(const SceneChange& query);
+  // Sends the queued changes, draws a frame now, shows it and returns it
+  // (waits for the render thread).
+  QImage renderedImage();
+  // The frame on screen (may lag the scene by a frame).
+  const QImage& shownFrame() const { return frame_; }
 
+  // Adds `prop` to the scene (queued like edit()).
+  void add(vtkSmartPointer<vtkProp> prop);
   // Level of detail: `detailed` is drawn while the camera is still and
   // `stand_in` (the same thing decimated) while the mouse moves it, so the
   // view keeps up on software OpenGL (llvmpipe: ~2 fps at 1 M triangles).
-  // Both join the renderer.
-  void addWithStandIn(vtkProp* detailed, vtkProp* stand_in);
+  void addWithStandIn(vtkSmartPointer<vtkProp> detailed, vtkSmartPointer<vtkProp> stand_in);
   // Removes `prop` and, when it has one, its stand-in (or the prop it
-  // stands in for).
+  // stands in for). `prop` is only compared, never dereferenced here.
   void remove(vtkProp* prop);
   // Removes every prop, stand-ins included.
   void clear();
   bool cameraMoving() const { return camera_moving_; }
-  // What the interactor does on a drag; public for timing both levels.
+  // What the interactor does on a drag (queued); public for timing both
+  // levels.
   void setCameraMoving(bool moving);
-  // Cells (triangles, points, lines) of the visible actors.
-  long long visibleCells() const;
+  // Cells (triangles, points, lines) of the visible actors (waits).
+  long long visibleCells();
 
   // The surface format VTK needs; set it as the application default before
   // constructing QApplication.
   static QSurfaceFormat defaultFormat();
 
  signals:
-  // A frame reached the widget's framebuffer.
+  // A new frame is on screen.
   void frameRendered();
 
  protected:
-  void initializeGL() override;
-  void resizeGL(int w, int h) override;
-  void paintGL() override;
+  void paintEvent(QPaintEvent* e) override;
+  void resizeEvent(QResizeEvent* e) override;
+  void showEvent(QShowEvent* e) override;
+  void hideEvent(QHideEvent* e) override;
   bool event(QEvent* e) override;
 
  private:
-  void onRenderWindowEvent(vtkObject* caller, unsigned long event_id, void* call_data);
-  void releaseGraphics();
+  class Renderer;
+  struct Input;
   bool forwardToInteractor(QEvent* e);
+  void send(const Input& input);
+  void flush();
+  void showFrame(QImage frame);
 
-  vtkNew<vtkGenericOpenGLRenderWindow> window_;
-  vtkNew<vtkGenericRenderWindowInteractor> interactor_;
-  vtkNew<vtkRenderer> renderer_;
-  QSurface* surface_ = nullptr;
-  QMetaObject::Connection context_connection_;
-  bool render_pending_ = true;
-  bool in_paint_ = false;
+  QOffscreenSurface* surface_;
+  std::unique_ptr<Renderer> renderer_;
+  QThread thread_;
+  std::vector<SceneChange> queued_;
+  QImage frame_;
+  std::atomic<bool> camera_moving_ = false;
   int wheel_accumulator_ = 0;
-  std::vector<std::pair<vtkProp*, vtkProp*>> detail_;  // owned by the renderer
-  bool camera_moving_ = false;
 };
 
 }  // namespace ambler::rendering

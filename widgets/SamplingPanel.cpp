@@ -297,15 +297,14 @@ void SamplingPanel::showSample() {
 }
 
 void SamplingPanel::showPoints() {
-  auto* renderer = points_view_->renderer();
   points_view_->clear();
   if (!sample_) return points_view_->render();
   std::vector<Eigen::Vector3f> points;
   for (const auto& p : sample_->points) points.push_back(p.cast<float>());
-  renderer->AddActor(rendering::makePointCloud(points, {0.9, 0.9, 0.9}, 3.0f));
-  renderer->AddActor(
+  points_view_->add(rendering::makePointCloud(points, {0.9, 0.9, 0.9}, 3.0f));
+  points_view_->add(
       rendering::makePolylines(wireframe(sample_->fit.shape), {1.0, 0.35, 1.0}, 1.5f));
-  renderer->ResetCamera();
+  points_view_->edit([](vtkRenderer& renderer) { renderer.ResetCamera(); });
   points_view_->render();
 }
 

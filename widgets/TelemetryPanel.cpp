@@ -61,38 +61,32 @@ QValueAxis* valueAxis(const QString& title) {
   return axis;
 }
 
-// Clears the chart's series and spans its time axis over `span_s`.
-QValueAxis* resetChart(QChart* chart, double span_s) {
-  chart->removeAllSeries();
-  auto* x = qobject_cast<QValueAxis*>(chart->axes(Qt::Horizontal).front());
-  x->setRange(0, std::max(span_s, 1.0));
-  x->setLabelFormat(span_s < 10 ? "%.1f" : "%.0f");
-  return x;
+// A line series on the chart's two axes, named `name` (in the legend).
+QLineSeries* addLine(QChart* chart, const QString& name) {
+  auto* series = new QLineSeries;
+  series->setName(name);
+  chart->addSeries(series);
+  series->attachAxis(chart->axes(Qt::Horizontal).front());
+  series->attachAxis(chart->axes(Qt::Vertical).front());
+  return series;
 }
 
-constexpr const char* kCursorName = "cursor";
-
-// One line per leg of `value(sample, leg)` over time, the y axis padded by `pad`.
+// Each leg's `value(sample, leg)` over time, and their range padded by `pad`.
 template <typename Value>
-void plotPerLeg(QChart* chart, const std::vector<executive::RoverSample>& history, double t0,
-                double pad, Value value) {
-  auto* x = resetChart(chart, history.empty() ? 1.0 : history.back().time_s - t0);
-  auto* y = qobject_cast<QValueAxis*>(chart->axes(Qt::Vertical).front());
-  double lo = INFINITY, hi = -INFINITY;
+void perLeg(const std::vector<executive::RoverSample>& history, double t0, double pad, Value value,
+            std::vector<QList<QPointF>>& lines, double& lo, double& hi) {
+  lines.assign(std::size_t(gait::kLegCount), {});
+  lo = INFINITY, hi = -INFINITY;
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
-    auto* series = new QLineSeries;
-    series->setName(TelemetryPanel::tr("leg %1").arg(leg));
+    auto& line = lines[std::size_t(leg)];
+    line.reserve(qsizetype(history.size()));
     for (const auto& sample : history) {
       const double v = value(sample, leg);
-      series->append(sample.time_s - t0, v);
+      line.append({sample.time_s - t0, v});
       lo = std::min(lo, v), hi = std::max(hi, v);
     }
-    chart->addSeries(series);
-    series->attachAxis(x);
-    series->attachAxis(y);
   }
-  if (hi >= lo) y->setRange(lo - pad, hi + pad);
-  chart->legend()->show();
+  if (hi >= lo) lo -= pad, hi += pad;
 }
 
 }  // namespace
@@ -122,7 +116,8 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   addAxes(timing_view_->chart(), lanes);
   addAxes(feet_view_->chart(), valueAxis(tr("Foot z [m]")));
   addAxes(loads_view_->chart(), valueAxis(tr("Load [kN]")));
-  auto* plots = new QTabWidget;
+  plots_ = new QTabWidget;
+  auto* plots = plots_;
   // A chart's size hint grows with its legend and tick labels as data
   // comes; taken into account, it would push the dock, and every view
   // above it, while the operator works.
@@ -131,6 +126,40 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   plots->addTab(timing_view_, tr("Module timing"));
   plots->addTab(feet_view_, tr("Foot heights"));
   plots->addTab(loads_view_, tr("Foot loads"));
+  views_ = {timing_view_, feet_view_, loads_view_};
+  for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
+    auto* area = new QAreaSeries;
+    auto* upper = new QLineSeries(area);
+    auto* lower = new QLineSeries(area);
+    area->setUpperSeries(upper);
+    area->setLowerSeries(lower);
+    area->setName(kLanes[lane].name);
+    area->setColor(kLanes[lane].color);
+    area->setBorderColor(kLanes[lane].color);
+    QChart* chart = timing_view_->chart();
+    chart->addSeries(area);
+    area->attachAxis(chart->axes(Qt::Horizontal).front());
+    area->attachAxis(chart->axes(Qt::Vertical).front());
+    series_[kTiming].push_back(upper);
+    series_[kTiming].push_back(lower);
+  }
+  timing_view_->chart()->legend()->hide();
+  // One colour per leg on both plots (the chart's theme has five).
+  static const std::array<QColor, gait::kLegCount> kLegColours = {
+      QColor(31, 119, 180), QColor(255, 127, 14),  QColor(44, 160, 44),
+      QColor(214, 39, 40),  QColor(148, 103, 189), QColor(140, 86, 75)};
+  for (Plot plot : {kFeet, kLoads})
+    for (int leg = 0; leg < gait::kLegCount; ++leg) {
+      auto* line = addLine(views_[plot]->chart(), tr("leg %1").arg(leg));
+      line->setPen(QPen(kLegColours[std::size_t(leg)], 2.0));
+      series_[plot].push_back(line);
+    }
+  for (int plot = 0; plot < kPlotCount; ++plot) {
+    cursors_[plot] = addLine(views_[plot]->chart(), tr("now"));
+    cursors_[plot]->setPen(QPen(Qt::red, 1.5, Qt::DashLine));
+    cursors_[plot]->setVisible(false);
+  }
+  connect(plots_, &QTabWidget::currentChanged, this, [this] { redrawVisible(); });
   // Wide and short, to sit under the views: the state on the left, the
   // plots over time on the right.
   auto* state = new QVBoxLayout;
@@ -179,66 +208,70 @@ void TelemetryPanel::setRover(const std::optional<executive::RoverSample>& rover
 // while one of its tasks runs.
 void TelemetryPanel::setModuleTiming(const std::vector<executive::Task>& tasks, double t0,
                                      double now_s) {
-  QChart* chart = timing_view_->chart();
-  auto* x = resetChart(chart, now_s - t0);
-  auto* y = chart->axes(Qt::Vertical).front();
+  auto& data = data_[kTiming];
+  data.lines.assign(2 * kLanes.size(), {});
   for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
     const double base = double(kLanes.size() - 1 - lane);
-    // An area series does not own its lines: they are its children, so
-    // that the next refresh's removeAllSeries() deletes them too.
-    auto* area = new QAreaSeries;
-    auto* upper = new QLineSeries(area);
-    auto* lower = new QLineSeries(area);
-    upper->append(0, base - 0.3);
+    auto& upper = data.lines[2 * lane];
+    upper.append({0, base - 0.3});
     for (const auto& t : tasks) {
       if (!kLanes[lane].owns(t) || t.started_s <= 0) continue;
       const double a = t.started_s - t0;
       const double b = (t.ended_s > 0 ? t.ended_s : now_s) - t0;
-      upper->append({{a, base - 0.3}, {a, base + 0.3}, {b, base + 0.3}, {b, base - 0.3}});
+      upper.append({{a, base - 0.3}, {a, base + 0.3}, {b, base + 0.3}, {b, base - 0.3}});
     }
-    upper->append(now_s - t0, base - 0.3);
-    lower->append({{0, base - 0.3}, {now_s - t0, base - 0.3}});
-    area->setUpperSeries(upper);
-    area->setLowerSeries(lower);
-    area->setName(kLanes[lane].name);
-    area->setColor(kLanes[lane].color);
-    area->setBorderColor(kLanes[lane].color);
-    chart->addSeries(area);
-    area->attachAxis(x);
-    area->attachAxis(y);
+    upper.append({now_s - t0, base - 0.3});
+    data.lines[2 * lane + 1] = {{0, base - 0.3}, {now_s - t0, base - 0.3}};
   }
-  chart->legend()->hide();
+  data.span_s = now_s - t0;
+  data.y_lo = -0.5, data.y_hi = double(kLanes.size()) - 0.5;
+  data.stale = true;
+  redrawVisible();
 }
 
 void TelemetryPanel::setHistory(const std::vector<executive::RoverSample>& history, double t0) {
-  plotPerLeg(feet_view_->chart(), history, t0, 0.05,
-             [](const auto& s, int leg) { return s.stance.feet[std::size_t(leg)].z(); });
-  plotPerLeg(loads_view_->chart(), history, t0, 1.0,
-             [](const auto& s, int leg) { return s.force_n[std::size_t(leg)] / 1000.0; });
+  const double span = history.empty() ? 1.0 : history.back().time_s - t0;
+  auto& feet = data_[kFeet];
+  perLeg(
+      history, t0, 0.05, [](const auto& s, int leg) { return s.stance.feet[std::size_t(leg)].z(); },
+      feet.lines, feet.y_lo, feet.y_hi);
+  auto& loads = data_[kLoads];
+  perLeg(
+      history, t0, 1.0, [](const auto& s, int leg) { return s.force_n[std::size_t(leg)] / 1000.0; },
+      loads.lines, loads.y_lo, loads.y_hi);
+  feet.span_s = loads.span_s = span;
+  feet.stale = loads.stale = true;
+  redrawVisible();
+}
+
+void TelemetryPanel::redrawVisible() {
+  for (int plot = 0; plot < kPlotCount; ++plot)
+    if (plots_->currentWidget() == views_[plot] && data_[plot].stale) redraw(Plot(plot));
+}
+
+void TelemetryPanel::redraw(Plot plot) {
+  auto& data = data_[plot];
+  data.stale = false;
+  QChart* chart = views_[plot]->chart();
+  auto* x = qobject_cast<QValueAxis*>(chart->axes(Qt::Horizontal).front());
+  x->setRange(0, std::max(data.span_s, 1.0));
+  x->setLabelFormat(data.span_s < 10 ? "%.1f" : "%.0f");
+  // The lanes' axis is a category axis, set once.
+  auto* y = qobject_cast<QValueAxis*>(chart->axes(Qt::Vertical).front());
+  if (plot != kTiming && y && data.y_hi > data.y_lo) y->setRange(data.y_lo, data.y_hi);
+  for (std::size_t i = 0; i < series_[plot].size(); ++i)
+    series_[plot][i]->replace(i < data.lines.size() ? data.lines[i] : QList<QPointF>{});
+  auto* cursor = cursors_[plot];
+  cursor->setVisible(data.cursor_s.has_value());
+  if (data.cursor_s) cursor->replace({{*data.cursor_s, data.y_lo}, {*data.cursor_s, data.y_hi}});
 }
 
 void TelemetryPanel::setCursor(std::optional<double> time_s) {
-  for (QChartView* view : {timing_view_, feet_view_, loads_view_}) {
-    QChart* chart = view->chart();
-    for (auto* s : chart->series())
-      if (s->objectName() == kCursorName) {
-        chart->removeSeries(s);
-        delete s;
-      }
-    const auto axes_x = chart->axes(Qt::Horizontal), axes_y = chart->axes(Qt::Vertical);
-    if (!time_s || axes_x.isEmpty() || axes_y.isEmpty()) continue;
-    auto* y = qobject_cast<QValueAxis*>(axes_y.front());  // QCategoryAxis is one too
-    if (!y) continue;
-    const double lo = y->min(), hi = y->max();
-    auto* cursor = new QLineSeries;
-    cursor->setObjectName(kCursorName);
-    cursor->setName(tr("now"));
-    cursor->setPen(QPen(Qt::red, 1.5, Qt::DashLine));
-    cursor->append({{*time_s, lo}, {*time_s, hi}});
-    chart->addSeries(cursor);
-    cursor->attachAxis(axes_x.front());
-    cursor->attachAxis(y);
+  for (auto& data : data_) {
+    data.cursor_s = time_s;
+    data.stale = true;
   }
+  redrawVisible();
 }
 
 }  // namespace ambler::widgets

@@ -2,6 +2,7 @@
 
 #include <vtkCamera.h>
 #include <vtkProperty.h>
+#include <vtkRenderer.h>
 
 #include <QCheckBox>
 #include <QHBoxLayout>
@@ -219,14 +220,15 @@ void TerrainView::scheduleRebuild(std::initializer_list<Layer> layers) {
   });
 }
 
-void TerrainView::addTo(Layer layer, vtkProp* prop) {
-  view_->renderer()->AddViewProp(prop);
-  props_[layer].push_back(prop);
+void TerrainView::addTo(Layer layer, vtkSmartPointer<vtkProp> prop) {
+  props_[layer].push_back(prop.Get());
+  view_->add(std::move(prop));
 }
 
-void TerrainView::addToWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in) {
-  view_->addWithStandIn(detailed, stand_in);
-  props_[layer].push_back(detailed);
+void TerrainView::addToWithStandIn(Layer layer, vtkSmartPointer<vtkProp> detailed,
+                                   vtkSmartPointer<vtkProp> stand_in) {
+  props_[layer].push_back(detailed.Get());
+  view_->addWithStandIn(std::move(detailed), std::move(stand_in));
 }
 
 void TerrainView::rebuild() {
@@ -280,7 +282,7 @@ void TerrainView::rebuild() {
                   ground);
     }
   }
-  view_->renderer()->ResetCameraClippingRange();
+  view_->edit([](vtkRenderer& renderer) { renderer.ResetCameraClippingRange(); });
   view_->render();
 }
 
@@ -334,10 +336,12 @@ void TerrainView::placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector
   const Eigen::Vector3d eye = sensor - 18.0 * forward + Eigen::Vector3d(0, 0, 7.0);
   Eigen::Vector3d target = sensor + 10.0 * forward;
   target.z() = ground_z;
-  auto* camera = view_->renderer()->GetActiveCamera();
-  camera->SetPosition(eye.x(), eye.y(), eye.z());
-  camera->SetFocalPoint(target.x(), target.y(), target.z());
-  camera->SetViewUp(0, 0, 1);
+  view_->edit([eye, target](vtkRenderer& renderer) {
+    auto* camera = renderer.GetActiveCamera();
+    camera->SetPosition(eye.x(), eye.y(), eye.z());
+    camera->SetFocalPoint(target.x(), target.y(), target.z());
+    camera->SetViewUp(0, 0, 1);
+  });
   camera_placed_ = true;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vtkSmartPointer.h>
+
 #include <QWidget>
 #include <array>
 #include <initializer_list>
@@ -68,8 +70,9 @@ class TerrainView : public QWidget {
   enum Layer { kGround, kRover, kOverlay, kLayerCount };
   void scheduleRebuild(std::initializer_list<Layer> layers);
   void rebuild();
-  void addTo(Layer layer, vtkProp* prop);
-  void addToWithStandIn(Layer layer, vtkProp* detailed, vtkProp* stand_in);
+  void addTo(Layer layer, vtkSmartPointer<vtkProp> prop);
+  void addToWithStandIn(Layer layer, vtkSmartPointer<vtkProp> detailed,
+                        vtkSmartPointer<vtkProp> stand_in);
   void addGround();
   void addScanPoints();
   void addRover();
@@ -92,7 +95,8 @@ class TerrainView : public QWidget {
   bool scan_over_map_ = false;  // the scan came after the map: its points are drawn
   bool camera_placed_ = false;
   bool rebuild_pending_ = false;
-  std::array<std::vector<vtkProp*>, kLayerCount> props_;  // owned by the renderer
+  // Owned by the view's scene; kept here only to name them for removal.
+  std::array<std::vector<vtkProp*>, kLayerCount> props_;
   std::array<bool, kLayerCount> stale_{};
 };
 

@@ -42,7 +42,7 @@ void screenshotOnce(QWidget& window, const QString& path) {
 }
 
 // The median time of ten frames of the 3-D view at one level of detail
-// (VTK's render, the blit into the widget and reading it back), and the
+// (VTK's render on the view's render thread and reading it back), and the
 // cells drawn.
 std::pair<double, long long> frameTimes(ambler::rendering::VtkView* view, bool moving) {
   view->setCameraMoving(moving);
@@ -50,8 +50,7 @@ std::pair<double, long long> frameTimes(ambler::rendering::VtkView* view, bool m
   for (int i = 0; i < 10; ++i) {
     QElapsedTimer timer;
     timer.start();
-    view->render();
-    view->grabFramebuffer();  // paints now
+    view->renderedImage();
     ms.push_back(double(timer.nsecsElapsed()) / 1e6);
   }
   std::nth_element(ms.begin(), ms.begin() + 5, ms.end());

@@ -1,5 +1,6 @@
 // Widget test of the Qt6 <-> VTK adapter; needs a display (xvfb-run).
 #include <vtkCamera.h>
+#include <vtkRenderer.h>
 
 #include <QApplication>
 #include <QColor>
@@ -8,6 +9,7 @@
 #include <QSet>
 #include <QSurfaceFormat>
 #include <QtTest/QtTest>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -28,9 +30,25 @@ void addWavySurface(VtkView& view) {
       z(r, c) = float(0.5 * std::sin(p.x()) * std::cos(p.y()));
     }
   auto table = ambler::rendering::makeViridisTable(-0.5, 0.5);
-  view.renderer()->AddActor(ambler::rendering::makeHeightSurface(grid, z, table));
-  view.renderer()->AddActor2D(ambler::rendering::makeColorBar(table, "Elevation [m]"));
-  view.renderer()->ResetCamera();
+  view.add(ambler::rendering::makeHeightSurface(grid, z, table));
+  view.add(ambler::rendering::makeColorBar(table, "Elevation [m]"));
+  view.edit([](vtkRenderer& renderer) { renderer.ResetCamera(); });
+  view.render();
+}
+
+struct CameraPose {
+  std::array<double, 3> position{};
+  double distance = 0.0;
+};
+
+CameraPose cameraOf(VtkView& view) {
+  CameraPose pose;
+  view.inspect([&pose](vtkRenderer& renderer) {
+    auto* camera = renderer.GetActiveCamera();
+    camera->GetPosition(pose.position.data());
+    pose.distance = camera->GetDistance();
+  });
+  return pose;
 }
 
 void sendMouse(QWidget& w, QEvent::Type type, QPointF pos, Qt::MouseButtons buttons) {
@@ -39,10 +57,15 @@ void sendMouse(QWidget& w, QEvent::Type type, QPointF pos, Qt::MouseButtons butt
   QApplication::sendEvent(&w, &e);
 }
 
-QImage renderedImage(VtkView& view) {
-  view.render();
-  QTest::qWait(100);
-  return view.grabFramebuffer();
+QImage renderedImage(VtkView& view) { return view.renderedImage(); }
+
+// Pixels of the viridis surface or colour bar (the background is grey).
+int colouredPixels(const QImage& image) {
+  int coloured = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      coloured += image.pixelColor(x, y).hsvSaturation() > 100;
+  return coloured;
 }
 
 }  // namespace
@@ -85,26 +108,41 @@ class VtkViewTest : public QObject {
     QVERIFY2(hues.size() >= 5, qPrintable(QString("only %1 hue bands").arg(hues.size())));
   }
 
+  // Frames come from the render thread by themselves: a scene change and
+  // a resize reach the widget with nobody waiting for them.
+  void aSceneChangeReachesTheScreenOnItsOwn() {
+    VtkView& view = *view_;
+    QTRY_VERIFY(!view.shownFrame().isNull());
+    const int coloured_before = colouredPixels(view.shownFrame());
+    QVERIFY2(coloured_before > 1000, qPrintable(QString::number(coloured_before)));
+    view.clear();
+    view.render();
+    QTRY_COMPARE(colouredPixels(view.shownFrame()), 0);
+    view.resize(300, 200);
+    const double dpr = view.devicePixelRatioF();
+    QTRY_COMPARE(view.shownFrame().size(), QSize(int(300 * dpr), int(200 * dpr)));
+  }
+
   void mouseDragMovesTheCamera() {
     VtkView& view = *view_;
     const QImage before = renderedImage(view);
-    auto* camera = view.renderer()->GetActiveCamera();
-    double p0[3];
-    camera->GetPosition(p0);
-    const double distance0 = camera->GetDistance();
+    const CameraPose pose0 = cameraOf(view);
+    const auto& p0 = pose0.position;
+    const double distance0 = pose0.distance;
 
     sendMouse(view, QEvent::MouseButtonPress, {200, 150}, Qt::LeftButton);
     for (int dx = 10; dx <= 120; dx += 10)
       sendMouse(view, QEvent::MouseMove, {200.0 + dx, 150.0}, Qt::LeftButton);
     sendMouse(view, QEvent::MouseButtonRelease, {320, 150}, Qt::NoButton);
 
-    double p1[3];
-    camera->GetPosition(p1);
+    const CameraPose pose1 = cameraOf(view);
+    const auto& p1 = pose1.position;
     const double moved = std::hypot(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]);
     QVERIFY2(moved > 0.1 * distance0, qPrintable(QString("camera moved %1 m").arg(moved)));
     // Trackball rotation orbits the focal point at constant distance.
-    QVERIFY(std::abs(camera->GetDistance() - distance0) < 1e-6 * distance0);
-    QVERIFY(renderedImage(view) != before);
+    QVERIFY(std::abs(pose1.distance - distance0) < 1e-6 * distance0);
+    // The drag's frames reach the widget without anyone asking for them.
+    QTRY_VERIFY(view.shownFrame() != before);
   }
 
   // While the mouse drags the camera the thinned stand-in is drawn; the
@@ -130,15 +168,23 @@ class VtkViewTest : public QObject {
     auto full = ambler::rendering::makeHeightSurface(grid, z, table);
     auto stand_in = ambler::rendering::makeHeightSurface(thin_grid, thin, table);
     view.addWithStandIn(full, stand_in);
-    view.renderer()->ResetCamera();
-    QVERIFY(full->GetVisibility() && !stand_in->GetVisibility());
+    view.edit([](vtkRenderer& renderer) { renderer.ResetCamera(); });
+    // Which of the two the scene draws, read on the render thread.
+    const auto drawn = [&] {
+      std::pair<bool, bool> visible;
+      view.inspect([&](vtkRenderer&) {
+        visible = {bool(full->GetVisibility()), bool(stand_in->GetVisibility())};
+      });
+      return visible;
+    };
+    QCOMPARE(drawn(), std::make_pair(true, false));
     sendMouse(view, QEvent::MouseButtonPress, {200, 150}, Qt::LeftButton);
     sendMouse(view, QEvent::MouseMove, {230, 150}, Qt::LeftButton);
+    QCOMPARE(drawn(), std::make_pair(false, true));
     QVERIFY(view.cameraMoving());
-    QVERIFY(!full->GetVisibility() && stand_in->GetVisibility());
     sendMouse(view, QEvent::MouseButtonRelease, {230, 150}, Qt::NoButton);
+    QCOMPARE(drawn(), std::make_pair(true, false));
     QVERIFY(!view.cameraMoving());
-    QVERIFY(full->GetVisibility() && !stand_in->GetVisibility());
   }
 };
 

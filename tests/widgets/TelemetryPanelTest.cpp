@@ -1,0 +1,96 @@
+// Widget test of the telemetry plots: points in the plot in view, the
+// others drawn when their tab is chosen; needs a display (xvfb-run).
+#include <QApplication>
+#include <QChart>
+#include <QChartView>
+#include <QLineSeries>
+#include <QTabWidget>
+#include <QValueAxis>
+#include <QtTest/QtTest>
+#include <vector>
+
+#include "widgets/TelemetryPanel.h"
+
+using ambler::widgets::TelemetryPanel;
+
+namespace {
+
+// Ten samples 0.5 s apart from t = 100 s; leg k's foot at z = 0.1 k + 0.01 i
+// and load (1 + k) kN.
+std::vector<ambler::executive::RoverSample> history() {
+  std::vector<ambler::executive::RoverSample> samples(10);
+  for (int i = 0; i < 10; ++i) {
+    samples[std::size_t(i)].time_s = 100.0 + 0.5 * i;
+    for (int leg = 0; leg < ambler::gait::kLegCount; ++leg) {
+      samples[std::size_t(i)].stance.feet[std::size_t(leg)] = {0, 0, 0.1 * leg + 0.01 * i};
+      samples[std::size_t(i)].force_n[std::size_t(leg)] = 1000.0 * (1 + leg);
+    }
+  }
+  return samples;
+}
+
+// The plot's line of leg `leg` (named "leg N").
+QLineSeries* legLine(QChartView* view, int leg) {
+  for (auto* s : view->chart()->series())
+    if (s->name() == QString("leg %1").arg(leg)) return qobject_cast<QLineSeries*>(s);
+  return nullptr;
+}
+
+QTabWidget* tabsOf(QChartView* view) {
+  for (QWidget* w = view; w; w = w->parentWidget())
+    if (auto* tabs = qobject_cast<QTabWidget*>(w)) return tabs;
+  return nullptr;
+}
+
+}  // namespace
+
+class TelemetryPanelTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void aPlotOutOfViewIsDrawnWhenItsTabIsChosen() {
+    TelemetryPanel panel;
+    panel.resize(1000, 400);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    auto* tabs = tabsOf(panel.feetView());
+    QVERIFY(tabs);
+    tabs->setCurrentWidget(panel.feetView());
+    panel.setHistory(history(), 100.0);
+
+    // In view: every leg's line, in seconds from t0 and metres.
+    for (int leg = 0; leg < ambler::gait::kLegCount; ++leg) {
+      auto* line = legLine(panel.feetView(), leg);
+      QVERIFY(line);
+      QCOMPARE(line->count(), 10);
+      QCOMPARE(line->at(9).x(), 4.5);
+      QVERIFY(std::abs(line->at(9).y() - (0.1 * leg + 0.09)) < 1e-12);
+    }
+    auto* y = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Vertical).front());
+    QVERIFY(std::abs(y->min() - (0.0 - 0.05)) < 1e-9);
+    QVERIFY(std::abs(y->max() - (0.59 + 0.05)) < 1e-9);
+
+    // Out of view: not drawn yet; drawn, in kN, once chosen.
+    QCOMPARE(legLine(panel.loadsView(), 2)->count(), 0);
+    tabs->setCurrentWidget(panel.loadsView());
+    QCOMPARE(legLine(panel.loadsView(), 2)->count(), 10);
+    QCOMPARE(legLine(panel.loadsView(), 2)->at(0).y(), 3.0);
+    panel.grab().save(QCoreApplication::applicationDirPath() + "/screenshot-telemetry-loads.png");
+
+    // A refresh replaces the points: the same series, not new ones.
+    const auto series_before = panel.loadsView()->chart()->series().size();
+    auto shorter = history();
+    shorter.resize(4);
+    panel.setHistory(shorter, 100.0);
+    QCOMPARE(panel.loadsView()->chart()->series().size(), series_before);
+    QCOMPARE(legLine(panel.loadsView(), 2)->count(), 4);
+  }
+};
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  TelemetryPanelTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "TelemetryPanelTest.moc"
