@@ -72,11 +72,12 @@ class VtkView::Renderer : public QObject {
     interactor_->Initialize();
   }
 
+  // The props' buffers and textures go with the context that made them.
   void stop() {
+    if (context_) context_->makeCurrent(surface_);
     renderer_->RemoveAllViewProps();
     detail_.clear();
     if (!context_) return;
-    context_->makeCurrent(surface_);
     window_->Finalize();
     window_->SetReadyForRendering(false);
     context_->doneCurrent();
@@ -88,7 +89,8 @@ class VtkView::Renderer : public QObject {
     if (draw) ask();
   }
 
-  void resize(int w, int h) {
+  void resize(int w, int h, double pixel_ratio) {
+    pixel_ratio_ = pixel_ratio;
     interactor_->UpdateSize(std::max(1, w), std::max(1, h));
     ask();
   }
@@ -248,7 +250,8 @@ class VtkView::Renderer : public QObject {
     auto* fbo = window_->GetDisplayFramebuffer();
     const int* size = window_->GetSize();
     if (!fbo || size[0] < 1 || size[1] < 1) return {};
-    QImage frame(size[0], size[1], QImage::Format_RGB32);
+    QImage spare;
+    QImage& frame = freeBuffer(size[0], size[1], spare);
     fbo->Bind(GL_READ_FRAMEBUFFER);
     fbo->ActivateReadBuffer(0);
     context_->extraFunctions()->glReadPixels(0, 0, size[0], size[1], GL_BGRA, GL_UNSIGNED_BYTE,
@@ -264,6 +267,23 @@ class VtkView::Renderer : public QObject {
     return frame;
   }
 
+  // A frame buffer of this size that neither the widget nor a frame on its
+  // way there holds. A few are reused rather than one allocated per frame,
+  // which fragments the heap over a shift. Write through the reference (a
+  // copy's bits() would detach); `spare` serves when all kept are taken.
+  QImage& freeBuffer(int w, int h, QImage& spare) {
+    const QSize size(w, h);
+    std::erase_if(buffers_, [&](const QImage& b) {
+      return b.size() != size || b.devicePixelRatio() != pixel_ratio_;
+    });
+    for (QImage& b : buffers_)
+      if (b.isDetached()) return b;
+    QImage& fresh = buffers_.size() < 3 ? buffers_.emplace_back() : spare;
+    fresh = QImage(size, QImage::Format_RGB32);
+    fresh.setDevicePixelRatio(pixel_ratio_);
+    return fresh;
+  }
+
   void publish(const QImage& frame) {
     QMetaObject::invokeMethod(
         view_, [view = view_, frame] { view->showFrame(frame); }, Qt::QueuedConnection);
@@ -276,6 +296,8 @@ class VtkView::Renderer : public QObject {
   vtkNew<vtkGenericRenderWindowInteractor> interactor_;
   vtkNew<vtkRenderer> renderer_;
   std::vector<std::pair<vtkSmartPointer<vtkProp>, vtkSmartPointer<vtkProp>>> detail_;
+  std::vector<QImage> buffers_;
+  double pixel_ratio_ = 1.0;
   bool moving_ = false, shown_ = false, asked_ = false, render_posted_ = false, framed_ = false;
   std::mutex inputs_mutex_;
   std::deque<Input> inputs_;
@@ -390,7 +412,6 @@ QSurfaceFormat VtkView::defaultFormat() {
 }
 
 void VtkView::showFrame(QImage frame) {
-  frame.setDevicePixelRatio(devicePixelRatioF());
   frame_ = std::move(frame);
   update();
   emit frameRendered();
@@ -406,8 +427,10 @@ void VtkView::paintEvent(QPaintEvent*) {
 void VtkView::resizeEvent(QResizeEvent* e) {
   QWidget::resizeEvent(e);
   const double dpr = devicePixelRatioF();
-  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get(), w = int(width() * dpr),
-                                              h = int(height() * dpr)] { r->resize(w, h); });
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get(), w = int(width() * dpr), h = int(height() * dpr), dpr] {
+        r->resize(w, h, dpr);
+      });
 }
 
 void VtkView::showEvent(QShowEvent* e) {

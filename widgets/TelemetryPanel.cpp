@@ -61,6 +61,14 @@ QValueAxis* valueAxis(const QString& title) {
   return axis;
 }
 
+// The least of 1, 2 or 5 times a power of ten that is at least `v` (> 0).
+double roundUp(double v) {
+  const double decade = std::pow(10.0, std::floor(std::log10(v)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * decade >= v) return m * decade;
+  return 10.0 * decade;
+}
+
 // A line series on the chart's two axes, named `name` (in the legend).
 QLineSeries* addLine(QChart* chart, const QString& name) {
   auto* series = new QLineSeries;
@@ -254,8 +262,13 @@ void TelemetryPanel::redraw(Plot plot) {
   data.stale = false;
   QChart* chart = views_[plot]->chart();
   auto* x = qobject_cast<QValueAxis*>(chart->axes(Qt::Horizontal).front());
-  x->setRange(0, std::max(data.span_s, 1.0));
-  x->setLabelFormat(data.span_s < 10 ? "%.1f" : "%.0f");
+  // The axis is laid out again (its labels measured) whenever its range
+  // changes: it grows by round steps, not with every refresh.
+  const double end = roundUp(std::max(data.span_s, 1.0));
+  if (x->max() != end) {
+    x->setRange(0, end);
+    x->setLabelFormat(end < 10 ? "%.1f" : "%.0f");
+  }
   // The lanes' axis is a category axis, set once.
   auto* y = qobject_cast<QValueAxis*>(chart->axes(Qt::Vertical).front());
   if (plot != kTiming && y && data.y_hi > data.y_lo) y->setRange(data.y_lo, data.y_hi);

@@ -66,6 +66,10 @@ class TelemetryPanelTest : public QObject {
       QCOMPARE(line->at(9).x(), 4.5);
       QVERIFY(std::abs(line->at(9).y() - (0.1 * leg + 0.09)) < 1e-12);
     }
+    // Time runs to the next round figure above the last sample (4.5 s).
+    auto* x = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Horizontal).front());
+    QCOMPARE(x->min(), 0.0);
+    QCOMPARE(x->max(), 5.0);
     auto* y = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Vertical).front());
     QVERIFY(std::abs(y->min() - (0.0 - 0.05)) < 1e-9);
     QVERIFY(std::abs(y->max() - (0.59 + 0.05)) < 1e-9);
