@@ -16,6 +16,7 @@
 #include "cli/Commands.h"
 #include "executive/WalkExecutive.h"
 #include "gait/RoverConfig.h"
+#include "link/Signing.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
 
@@ -131,7 +132,7 @@ struct Console {
         dds(a.domain, a.rover_id,
             std::chrono::milliseconds(static_cast<long>(a.discovery_wait_s * 1000))),
         recording(dds, log),
-        watched(recording, health, missionlog::groundClockS),
+        watched(recording, health, link::utcNowS),
         link(watched, me) {}
   missionlog::MissionLog log;
   link::dds::DdsLink dds;
@@ -160,10 +161,9 @@ void sendSigned(Console& c, link::CommandSigner& signer, std::uint32_t rover_id,
 // Watches and records until SIGTERM, the timeout, or (taking over) SIGUSR1.
 void watch(Console& c, const DriveArgs& a, double start_s, bool until_take_over) {
   std::optional<bool> stale;
-  while (!g_stop && !(until_take_over && g_take_over) &&
-         missionlog::groundClockS() - start_s < a.timeout_s) {
+  while (!g_stop && !(until_take_over && g_take_over) && link::utcNowS() - start_s < a.timeout_s) {
     c.link.receive(std::chrono::milliseconds(50));
-    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
+    reportStaleness(c, link::utcNowS(), start_s, stale);
   }
 }
 
@@ -171,10 +171,9 @@ void watch(Console& c, const DriveArgs& a, double start_s, bool until_take_over)
 // holds it; false on the timeout.
 bool takeOver(Console& c, link::CommandSigner& signer, const DriveArgs& a, double start_s) {
   sendSigned(c, signer, a.rover_id, link::RequestAuthority{});
-  printLine(
-      {{"event", "asked for command authority"}, {"t_s", missionlog::groundClockS() - start_s}});
+  printLine({{"event", "asked for command authority"}, {"t_s", link::utcNowS() - start_s}});
   while (c.link.holder() != signer.console()) {
-    if (missionlog::groundClockS() - start_s > a.timeout_s) return false;
+    if (link::utcNowS() - start_s > a.timeout_s) return false;
     c.link.receive(std::chrono::milliseconds(50));
   }
   return true;
@@ -203,15 +202,15 @@ bool handOverBetweenSteps(Console& c, link::CommandSigner& signer, executive::Ap
   gate.setMode(executive::ApprovalMode::kOperator);
   if (executive.phase() != executive::Phase::kAwaitingDecision) return false;
   sendSigned(c, signer, a.rover_id, link::HandOver{c.link.request()});
-  const double asked_s = missionlog::groundClockS();
+  const double asked_s = link::utcNowS();
   while ((c.link.unanswered() > 0 || c.link.holder() == signer.console()) &&
-         missionlog::groundClockS() - asked_s < executive.ackTimeoutS())
-    executive.poll(missionlog::groundClockS(), std::chrono::milliseconds(50));
+         link::utcNowS() - asked_s < executive.ackTimeoutS())
+    executive.poll(link::utcNowS(), std::chrono::milliseconds(50));
   if (c.link.holder() != signer.console()) return true;
   // Refused (the request went away): walk on, the waiting step released.
   gate.setMode(executive::ApprovalMode::kAutoApprove);
   if (const auto& pending = gate.pending(); pending && pending->interlocks.passed())
-    (void)gate.approve(pending->id, executive::kAutoApprover, missionlog::groundClockS());
+    (void)gate.approve(pending->id, executive::kAutoApprover, link::utcNowS());
   return false;
 }
 
@@ -239,16 +238,16 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   };
   // A console that took over has watched the rover's state go by; a Resume
   // has the rover report it all again (and ends a hold).
-  executive.start(missionlog::groundClockS(), a.resume || a.take_over);
+  executive.start(link::utcNowS(), a.resume || a.take_over);
   std::string stopped;
   std::optional<bool> stale;
   // One turn of the console: poll, then say what changed. The staleness is
   // judged after the poll's wait: what it heard is older than now, never
   // newer.
   const auto turn = [&] {
-    const double now_s = missionlog::groundClockS();
+    const double now_s = link::utcNowS();
     executive.poll(now_s, std::chrono::milliseconds(50));
-    reportStaleness(c, missionlog::groundClockS(), start_s, stale);
+    reportStaleness(c, link::utcNowS(), start_s, stale);
     printEvents(now_s);
     return now_s;
   };
@@ -262,14 +261,14 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   // late): their answers, and after a suspension the rover's word on
   // holding (a heartbeat sent after it), are waited for, as long as the
   // console's timeout allows, so that the log has them.
-  const double stopped_s = missionlog::groundClockS();
+  const double stopped_s = link::utcNowS();
   const auto settled = [&] {
-    const double now_s = missionlog::groundClockS();
+    const double now_s = link::utcNowS();
     return c.link.unanswered() == 0 &&
            (stopped != "suspended" ||
             (!c.health.stale(now_s) && c.link.lastHeartbeatS() >= stopped_s));
   };
-  while (!settled() && missionlog::groundClockS() - start_s < a.timeout_s) turn();
+  while (!settled() && link::utcNowS() - start_s < a.timeout_s) turn();
   auto summary = c.link.figures();
   summary.update({{"stopped", stopped},
                   {"steps_done", executive.stepsDone()},
@@ -278,7 +277,7 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
                                                           : nlohmann::json()},
                   {"console", signer.console()},
                   {"log", a.log},
-                  {"duration_s", missionlog::groundClockS() - start_s}});
+                  {"duration_s", link::utcNowS() - start_s}});
   printLine(summary);
   const bool ok = stopped == "done" || stopped.rfind("handed over", 0) == 0;
   return ok ? 0 : 2;
@@ -299,7 +298,7 @@ int drive(const DriveArgs& a) {
                    link::SignerOptions{.validity_s = a.validity_s});
   const std::string me = signer ? signer->console() : "watcher";
   Console c(a, me);
-  const double start_s = missionlog::groundClockS();
+  const double start_s = link::utcNowS();
   printLine({{"event", "waiting for the rover's state on " + c.link.describe()},
              {"console", me},
              {"t_s", 0.0}});

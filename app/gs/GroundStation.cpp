@@ -10,6 +10,7 @@
 
 #include "app/gs/DdsConnection.h"
 #include "gait/Support.h"
+#include "link/Signing.h"
 #include "missionlog/ReplayLinks.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
@@ -216,7 +217,7 @@ void GroundStation::startWalk(int steps) {
                                         : choice_)))
     return;
   if (!session_ && report(openSession())) return;
-  session_start_s_ = missionlog::groundClockS();
+  session_start_s_ = link::utcNowS();
   history_.clear();
   // Each walk maps afresh: the last walk's map goes at once, before the
   // session's thread tells the new one.
@@ -284,7 +285,7 @@ void GroundStation::refreshTelemetry() {
     return;
   }
   const auto& state = session_->state();
-  const double now = missionlog::groundClockS();
+  const double now = link::utcNowS();
   const auto sample = state.report.sample(options_.ground.model, now);
   if (sample && (history_.empty() || history_.back().stance.body.xy != sample->stance.body.xy ||
                  history_.back().stance.feet != sample->stance.feet ||

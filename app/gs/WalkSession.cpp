@@ -5,6 +5,7 @@
 #include <random>
 
 #include "link/Limits.h"
+#include "link/Signing.h"
 #include "missionlog/ReplayLinks.h"
 #include "rover/InProcessLink.h"
 
@@ -18,8 +19,6 @@ link::OperatorKey sessionKey(const QString& operator_id) {
   for (auto& b : key) b = std::uint8_t(random());
   return {operator_id.toStdString(), key};
 }
-
-double nowS() { return missionlog::groundClockS(); }
 
 // Between changes the rover still moves: its reports reach the views this
 // often.
@@ -76,13 +75,13 @@ class WalkWorker : public QObject {
     }
     recording_ = std::make_unique<missionlog::RecordingLink>(*rover_link_, log_);
     link_ = std::make_unique<link::WatchedLink>(
-        *recording_, health_, [] { return nowS(); },
+        *recording_, health_, link::utcNowS,
         link::LinkObserver{[this](const link::Command& c) {
-                             table_.sent(nowS(), c);
+                             table_.sent(link::utcNowS(), c);
                              rows_changed_ = true;
                            },
                            [this](const link::Telemetry& t) {
-                             table_.received(nowS(), t);
+                             table_.received(link::utcNowS(), t);
                              rows_changed_ = heard_ = true;
                            }});
     makeExecutive({});
@@ -95,35 +94,36 @@ class WalkWorker : public QObject {
     options.steps = steps;
     options.rover_id = rover_.rover_id;
     makeExecutive(options);
-    executive_->start(nowS(), true);
+    executive_->start(link::utcNowS(), true);
     keepPolling();
     publish(true);
   }
 
   void approve(quint64 proposal, const std::string& who) {
-    tellRefusal(OperatorAction::kApprove, gate_.approve(proposal, who, nowS()));
+    tellRefusal(OperatorAction::kApprove, gate_.approve(proposal, who, link::utcNowS()));
     poll();
   }
 
   void reject(quint64 proposal, const std::string& who, const std::string& reason) {
-    tellRefusal(OperatorAction::kReject, gate_.reject(proposal, who, nowS(), reason));
+    tellRefusal(OperatorAction::kReject, gate_.reject(proposal, who, link::utcNowS(), reason));
     poll();
   }
 
   void editFoothold(quint64 proposal, const Eigen::Vector2d& xy, const std::string& who) {
-    tellRefusal(OperatorAction::kEditFoothold, executive_->editFoothold(proposal, xy, who, nowS()));
+    tellRefusal(OperatorAction::kEditFoothold,
+                executive_->editFoothold(proposal, xy, who, link::utcNowS()));
     ++proposal_revision_;
     publish(true);
   }
 
   void hold(const std::string& who) {
-    executive_->hold(nowS(), who);
+    executive_->hold(link::utcNowS(), who);
     keepPolling();  // for the rover's answer
     publish(true);
   }
 
   void resume() {
-    executive_->resume(nowS());
+    executive_->resume(link::utcNowS());
     keepPolling();
     publish(true);
   }
@@ -132,7 +132,8 @@ class WalkWorker : public QObject {
     gate_.setMode(on ? executive::ApprovalMode::kAutoApprove : executive::ApprovalMode::kOperator);
     // A step already waiting is released now if it passes its interlocks.
     if (on && gate_.pending() && gate_.pending()->interlocks.passed()) {
-      const auto done = gate_.approve(gate_.pending()->id, executive::kAutoApprover, nowS());
+      const auto done =
+          gate_.approve(gate_.pending()->id, executive::kAutoApprover, link::utcNowS());
       tellRefusal(OperatorAction::kAutoApprove, done);
     }
     publish(true);
@@ -197,7 +198,7 @@ class WalkWorker : public QObject {
   }
 
   void poll() {
-    executive_->poll(nowS(), std::chrono::milliseconds(0));
+    executive_->poll(link::utcNowS(), std::chrono::milliseconds(0));
     answerGrasp();
     publish(false);
   }
@@ -209,7 +210,7 @@ class WalkWorker : public QObject {
     if (pending != last_pending_) ++proposal_revision_;
     const bool changed = force || map_changed_ || rows_changed_ || pending != last_pending_ ||
                          executive_->phase() != last_phase_;
-    const double now = nowS();
+    const double now = link::utcNowS();
     if (!changed && !(heard_ && now - published_s_ >= kTelemetryPeriodS)) return;
     last_pending_ = pending;
     last_phase_ = executive_->phase();
@@ -264,7 +265,7 @@ class WalkWorker : public QObject {
                             plan.opening_m};
     if (auto outside = link::outsideLimits(grasp, context_.model, context_.gait); outside.refused())
       return outside;
-    const missionlog::Decision decision{nowS(), who, 0, missionlog::Verdict::kApproved,
+    const missionlog::Decision decision{link::utcNowS(), who, 0, missionlog::Verdict::kApproved,
                                         "{\"grasp\": " + detail + "}"};
     log_.record(decision);
     table_.decided(decision);
@@ -356,7 +357,7 @@ void WalkSession::take(std::shared_ptr<const WalkState> state) {
 
 std::optional<double> WalkSession::linkAgeS() const {
   if (!state_->last_heard_s) return std::nullopt;
-  return nowS() - *state_->last_heard_s;
+  return link::utcNowS() - *state_->last_heard_s;
 }
 
 // Carried out on the session's thread, in the order asked; nothing once

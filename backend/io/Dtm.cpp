@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "io/FormatError.h"
+#include "io/ReplaceFile.h"
 
 namespace ambler::io {
 
@@ -201,10 +202,8 @@ void writeGeoTiffAs(const std::filesystem::path& path, const Image<T>& image, co
   if (!driver) fail(path, "GDAL has no GeoTIFF driver");
   if (image.rows != grid.rows || image.cols != grid.cols)
     fail(path, "the raster is not the size of its grid");
-  auto tmp = path;
-  tmp += ".partial";
-  {
-    Dataset ds(driver->Create(tmp.c_str(), image.cols, image.rows, 1, type, nullptr));
+  writeThenReplace(path, [&](const std::filesystem::path& partial) {
+    Dataset ds(driver->Create(partial.c_str(), image.cols, image.rows, 1, type, nullptr));
     if (!ds) fail(path, std::string("cannot create: ") + CPLGetLastErrorMsg());
     double gt[6] = {grid.origin_x, grid.resolution, 0.0, grid.origin_y, 0.0, grid.resolution};
     ds->SetGeoTransform(gt);
@@ -216,10 +215,7 @@ void writeGeoTiffAs(const std::filesystem::path& path, const Image<T>& image, co
     if (band->RasterIO(GF_Write, 0, 0, image.cols, image.rows, pixels, image.cols, image.rows, type,
                        0, 0) != CE_None)
       fail(path, std::string("cannot write: ") + CPLGetLastErrorMsg());
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail(path, "cannot move into place: " + ec.message());
+  });
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <fstream>
 
+#include "io/ReplaceFile.h"
+
 namespace ambler::io {
 
 nlohmann::json readJsonFile(const std::filesystem::path& path) {
@@ -20,17 +22,11 @@ nlohmann::json readJsonFile(const std::filesystem::path& path) {
 }
 
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& value) {
-  auto tmp = path;
-  tmp += ".partial";
-  {
-    std::ofstream out(tmp);
+  writeThenReplace(path, [&](const std::filesystem::path& partial) {
+    std::ofstream out(partial);
     out << value.dump(2) << '\n';
     if (!out) throw FormatError("JSON '" + path.string() + "': write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec)
-    throw FormatError("JSON '" + path.string() + "': cannot move into place: " + ec.message());
+  });
 }
 
 JsonFields::JsonFields(const nlohmann::json& object, std::string context)

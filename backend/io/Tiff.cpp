@@ -9,6 +9,8 @@
 #include <mutex>
 #include <string>
 
+#include "io/ReplaceFile.h"
+
 namespace ambler::io {
 
 namespace {
@@ -109,11 +111,9 @@ void writeTiffImpl(const std::filesystem::path& path, const Image<T>& image, uin
   if (image.rows <= 0 || image.cols <= 0 ||
       image.pixels.size() != std::size_t(image.rows) * image.cols)
     fail(path, "refusing to write an image whose size does not match its pixel count");
-  auto tmp = path;
-  tmp += ".partial";
-  {
+  writeThenReplace(path, [&](const std::filesystem::path& partial) {
     t_last_tiff_error.clear();
-    TiffPtr tif(TIFFOpen(tmp.c_str(), "w"));
+    TiffPtr tif(TIFFOpen(partial.c_str(), "w"));
     if (!tif) fail(path, "cannot create file (" + lastError() + ")");
     TIFFSetField(tif.get(), TIFFTAG_IMAGEWIDTH, uint32_t(image.cols));
     TIFFSetField(tif.get(), TIFFTAG_IMAGELENGTH, uint32_t(image.rows));
@@ -130,10 +130,7 @@ void writeTiffImpl(const std::filesystem::path& path, const Image<T>& image, uin
       if (TIFFWriteScanline(tif.get(), row, uint32_t(r)) < 0)
         fail(path, "write failed at row " + std::to_string(r) + " (" + lastError() + ")");
     }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail(path, "cannot move finished file into place: " + ec.message());
+  });
 }
 
 }  // namespace

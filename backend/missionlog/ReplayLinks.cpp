@@ -20,9 +20,7 @@ std::pair<std::size_t, int> kindOf(const link::Telemetry& t) {
 
 }  // namespace
 
-double groundClockS() { return link::utcNowS(); }
-
-std::uint64_t firstSequenceFromClock() { return std::uint64_t(groundClockS() * 1e6); }
+std::uint64_t firstSequenceFromClock() { return std::uint64_t(link::utcNowS() * 1e6); }
 
 RecordingLink::RecordingLink(link::Link& inner, MissionLog& log, std::function<double()> clock)
     : inner_(inner), log_(log), clock_(std::move(clock)) {}

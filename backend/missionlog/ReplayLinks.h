@@ -10,20 +10,20 @@
 #include <functional>
 
 #include "link/Link.h"
+#include "link/Signing.h"
 #include "missionlog/MissionLog.h"
 
 namespace ambler::missionlog {
 
-// Seconds on the ground's clock (the epoch), as the log's time_s.
-double groundClockS();
-// The first sequence number of a console: the ground clock in microseconds,
+// The first sequence number of a console: the ground's UTC clock
+// (link::utcNowS, the log's time_s) in microseconds,
 // so that numbers grow across console restarts (a rover refuses one it has
 // seen).
 std::uint64_t firstSequenceFromClock();
 
 class RecordingLink : public link::Link {
  public:
-  RecordingLink(link::Link& inner, MissionLog& log, std::function<double()> clock = groundClockS);
+  RecordingLink(link::Link& inner, MissionLog& log, std::function<double()> clock = link::utcNowS);
   // Logged first: a command is on disk before it leaves.
   void send(const link::Command& command) override;
   std::vector<link::Telemetry> receive(std::chrono::milliseconds timeout) override;

@@ -19,6 +19,7 @@
 #include "../../TempDir.h"
 #include "InstalledConfig.h"
 #include "executive/WalkExecutive.h"
+#include "link/Signing.h"
 #include "link/dds/DdsMessages.h"
 #include "missionlog/ReplayLinks.h"
 #include "rover/SimulatedRover.h"
@@ -114,9 +115,9 @@ TEST(ExecutiveOverDds, WalksFiveApprovedStepsWithAmblerSimAndLogsEveryCommandAnd
   // The script: reject the first proposal, resume, approve every other.
   std::set<std::uint64_t> decided;
   const auto start = Clock::now();
-  executive.start(missionlog::groundClockS());
+  executive.start(link::utcNowS());
   while (executive.phase() != Phase::kDone && secondsSince(start) < 60) {
-    const double now = missionlog::groundClockS();
+    const double now = link::utcNowS();
     executive.poll(now, 50ms);
     if (const auto& p = gate.pending(); p && decided.insert(p->id).second) {
       if (decided.size() == 1)
@@ -249,9 +250,9 @@ TEST(ExecutiveOverDds, ARoverKilledMidWalkSuspendsTheWalkUntilHeardAgainAndResum
   WalkExecutive executive(dds, signer, gate, ground(), options);
   const auto pollUntil = [&](auto done, double limit_s) {
     const auto t0 = Clock::now();
-    while (!done() && secondsSince(t0) < limit_s) executive.poll(missionlog::groundClockS(), 50ms);
+    while (!done() && secondsSince(t0) < limit_s) executive.poll(link::utcNowS(), 50ms);
   };
-  executive.start(missionlog::groundClockS());
+  executive.start(link::utcNowS());
   pollUntil([&] { return executive.stepsDone() >= 2; }, 60);
   ASSERT_GE(executive.stepsDone(), 2) << executive.events().back().what;
 
@@ -260,7 +261,7 @@ TEST(ExecutiveOverDds, ARoverKilledMidWalkSuspendsTheWalkUntilHeardAgainAndResum
   // DDS notices a vanished participant when its lease (10 s) runs out.
   EXPECT_NO_THROW(pollUntil([&] { return executive.linkLost().has_value(); }, 30));
   ASSERT_TRUE(executive.linkLost().has_value());
-  executive.poll(missionlog::groundClockS(), 0ms);
+  executive.poll(link::utcNowS(), 0ms);
   EXPECT_EQ(executive.phase(), Phase::kSuspended);
   EXPECT_FALSE(gate.pending());
   const auto& events = executive.events();
@@ -272,7 +273,7 @@ TEST(ExecutiveOverDds, ARoverKilledMidWalkSuspendsTheWalkUntilHeardAgainAndResum
   pollUntil([&] { return !executive.linkLost(); }, 30);
   ASSERT_FALSE(executive.linkLost()) << "the restarted rover was not heard";
   EXPECT_EQ(executive.phase(), Phase::kSuspended);
-  executive.resume(missionlog::groundClockS());
+  executive.resume(link::utcNowS());
   pollUntil([&] { return executive.stepsDone() > steps_before; }, 60);
   EXPECT_GT(executive.stepsDone(), steps_before) << executive.events().back().what;
 }
