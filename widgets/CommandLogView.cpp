@@ -64,11 +64,28 @@ class CommandLogView::Model : public QAbstractTableModel {
         return QString::fromStdString(r.reason);
     }
   }
+  // Rows are answered in place and appended as a walk goes on: only the
+  // rows that changed are announced, so the view keeps its selection and
+  // scroll position and lays out only what is new.
   void setRows(const std::vector<replay::LogRow>& rows) {
-    beginResetModel();
-    rows_ = rows;
+    const std::size_t old_size = rows_.size(), common = std::min(old_size, rows.size());
+    std::size_t first = 0;
+    while (first < common && rows_[first] == rows[first]) ++first;
+    if (rows.size() < old_size) {
+      beginRemoveRows({}, int(rows.size()), int(old_size) - 1);
+      rows_.resize(rows.size());
+      endRemoveRows();
+    }
+    std::copy(rows.begin() + std::ptrdiff_t(first), rows.begin() + std::ptrdiff_t(common),
+              rows_.begin() + std::ptrdiff_t(first));
+    if (first < common)
+      emit dataChanged(index(int(first), 0), index(int(common) - 1, columnCount() - 1));
+    if (rows.size() > old_size) {
+      beginInsertRows({}, int(old_size), int(rows.size()) - 1);
+      rows_.insert(rows_.end(), rows.begin() + std::ptrdiff_t(old_size), rows.end());
+      endInsertRows();
+    }
     happened_ = rows_.size();
-    endResetModel();
   }
   // Returns the number of rows that have happened by `time_s`.
   std::size_t setCurrentTime(std::optional<double> time_s) {

@@ -19,6 +19,7 @@ struct LogRow {
   std::string what;     // "LegMove leg 2, 3 waypoints", "approved proposal 4", ...
   std::string outcome;  // "accepted", "refused", "no answer", a verdict, ...
   std::string reason;   // why refused, what was decided
+  bool operator==(const LogRow&) const = default;
 };
 
 // The table as messages pass (live) or as a log is read (replay): each
