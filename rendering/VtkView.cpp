@@ -104,9 +104,7 @@ class VtkView::Renderer : public QObject {
     if (!context_) return {};
     interactor_->Render();
     framed_ = false;
-    QImage frame = readBack();
-    if (!frame.isNull()) publish(frame);
-    return frame;
+    return publishFrame();
   }
 
   // From the GUI thread: successive moves merge into the latest, so a
@@ -239,10 +237,7 @@ class VtkView::Renderer : public QObject {
       interactor_->InvokeEvent(in.vtk_event, nullptr);
     }
     // The interactor style rendered (the camera moved): show it.
-    if (std::exchange(framed_, false) && context_) {
-      QImage frame = readBack();
-      if (!frame.isNull()) publish(frame);
-    }
+    if (std::exchange(framed_, false) && context_) publishFrame();
   }
 
   // VTK's display framebuffer, top row first, opaque.
@@ -284,9 +279,13 @@ class VtkView::Renderer : public QObject {
     return fresh;
   }
 
-  void publish(const QImage& frame) {
-    QMetaObject::invokeMethod(
-        view_, [view = view_, frame] { view->showFrame(frame); }, Qt::QueuedConnection);
+  // Reads the frame just rendered back and sends it to the widget.
+  QImage publishFrame() {
+    QImage frame = readBack();
+    if (!frame.isNull())
+      QMetaObject::invokeMethod(
+          view_, [view = view_, frame] { view->showFrame(frame); }, Qt::QueuedConnection);
+    return frame;
   }
 
   VtkView* view_;
@@ -329,20 +328,18 @@ VtkView::~VtkView() {
 
 void VtkView::edit(SceneChange change) { queued_.push_back(std::move(change)); }
 
-void VtkView::flush() {
-  if (queued_.empty()) return;
-  QMetaObject::invokeMethod(renderer_.get(),
-                            [r = renderer_.get(), changes = std::exchange(queued_, {})]() mutable {
-                              r->apply(std::move(changes), false);
-                            });
+void VtkView::sendQueued(bool draw) {
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get(), draw, changes = std::exchange(queued_, {})]() mutable {
+        r->apply(std::move(changes), draw);
+      });
 }
 
-void VtkView::render() {
-  QMetaObject::invokeMethod(renderer_.get(),
-                            [r = renderer_.get(), changes = std::exchange(queued_, {})]() mutable {
-                              r->apply(std::move(changes), true);
-                            });
+void VtkView::flush() {
+  if (!queued_.empty()) sendQueued(false);
 }
+
+void VtkView::render() { sendQueued(true); }
 
 void VtkView::inspect(const SceneChange& query) {
   flush();
@@ -357,7 +354,6 @@ QImage VtkView::renderedImage() {
   QMetaObject::invokeMethod(
       renderer_.get(), [r = renderer_.get(), &frame] { frame = r->renderNow(); },
       Qt::BlockingQueuedConnection);
-  if (!frame.isNull()) showFrame(frame);
   return frame;
 }
 

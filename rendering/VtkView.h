@@ -47,8 +47,8 @@ class VtkView : public QWidget {
   // Sends the queued changes, runs `query` on the render thread after
   // them and waits for it (tests, measurements, never a workflow).
   void inspect(const SceneChange& query);
-  // Sends the queued changes, draws a frame now, shows it and returns it
-  // (waits for the render thread).
+  // Sends the queued changes, draws a frame now and returns it (waits for
+  // the render thread); the widget shows it like any other frame.
   QImage renderedImage();
   // The frame on screen (may lag the scene by a frame).
   const QImage& shownFrame() const { return frame_; }
@@ -91,6 +91,7 @@ class VtkView : public QWidget {
   struct Input;
   bool forwardToInteractor(QEvent* e);
   void send(const Input& input);
+  void sendQueued(bool draw);
   void flush();
   void showFrame(QImage frame);
 

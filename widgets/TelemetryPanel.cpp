@@ -103,9 +103,9 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
     : QWidget(parent),
       pose_(new QLabel),
       legs_(new QTableWidget(gait::kLegCount, 6)),
-      timing_view_(makeChartView(tr("Module timing (cmu-1990 fig. 7)"))),
-      feet_view_(makeChartView(tr("Foot heights"))),
-      loads_view_(makeChartView(tr("Foot loads (force sensors)"))) {
+      views_{makeChartView(tr("Module timing (cmu-1990 fig. 7)")),
+             makeChartView(tr("Foot heights")), makeChartView(tr("Foot loads (force sensors)"))},
+      plots_(new QTabWidget) {
   pose_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   legs_->setHorizontalHeaderLabels({tr("Leg"), tr("Contact"), tr("Load [kN]"), tr("Foot x [m]"),
                                     tr("Foot y [m]"), tr("Foot z [m]")});
@@ -121,20 +121,17 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   // Categories must be appended bottom up; the first lane is on top.
   for (std::size_t lane = kLanes.size(); lane-- > 0;)
     lanes->append(kLanes[lane].name, double(kLanes.size() - 1 - lane));
-  addAxes(timing_view_->chart(), lanes);
-  addAxes(feet_view_->chart(), valueAxis(tr("Foot z [m]")));
-  addAxes(loads_view_->chart(), valueAxis(tr("Load [kN]")));
-  plots_ = new QTabWidget;
-  auto* plots = plots_;
+  addAxes(views_[kTiming]->chart(), lanes);
+  addAxes(views_[kFeet]->chart(), valueAxis(tr("Foot z [m]")));
+  addAxes(views_[kLoads]->chart(), valueAxis(tr("Load [kN]")));
   // A chart's size hint grows with its legend and tick labels as data
   // comes; taken into account, it would push the dock, and every view
   // above it, while the operator works.
-  plots->setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Ignored);
-  plots->setMinimumHeight(240);
-  plots->addTab(timing_view_, tr("Module timing"));
-  plots->addTab(feet_view_, tr("Foot heights"));
-  plots->addTab(loads_view_, tr("Foot loads"));
-  views_ = {timing_view_, feet_view_, loads_view_};
+  plots_->setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Ignored);
+  plots_->setMinimumHeight(240);
+  plots_->addTab(views_[kTiming], tr("Module timing"));
+  plots_->addTab(views_[kFeet], tr("Foot heights"));
+  plots_->addTab(views_[kLoads], tr("Foot loads"));
   for (std::size_t lane = 0; lane < kLanes.size(); ++lane) {
     auto* area = new QAreaSeries;
     auto* upper = new QLineSeries(area);
@@ -144,14 +141,14 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
     area->setName(kLanes[lane].name);
     area->setColor(kLanes[lane].color);
     area->setBorderColor(kLanes[lane].color);
-    QChart* chart = timing_view_->chart();
+    QChart* chart = views_[kTiming]->chart();
     chart->addSeries(area);
     area->attachAxis(chart->axes(Qt::Horizontal).front());
     area->attachAxis(chart->axes(Qt::Vertical).front());
     series_[kTiming].push_back(upper);
     series_[kTiming].push_back(lower);
   }
-  timing_view_->chart()->legend()->hide();
+  views_[kTiming]->chart()->legend()->hide();
   // One colour per leg on both plots (the chart's theme has five).
   static const std::array<QColor, gait::kLegCount> kLegColours = {
       QColor(31, 119, 180), QColor(255, 127, 14),  QColor(44, 160, 44),
@@ -176,7 +173,7 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
   state->addStretch(1);
   auto* layout = new QHBoxLayout(this);
   layout->addLayout(state, 2);
-  layout->addWidget(plots, 3);
+  layout->addWidget(plots_, 3);
   setRover(std::nullopt);
 }
 

@@ -41,9 +41,9 @@ class TelemetryPanel : public QWidget {
   void setCursor(std::optional<double> time_s_from_t0);
 
   QTableWidget* legTable() const { return legs_; }
-  QChartView* timingView() const { return timing_view_; }
-  QChartView* feetView() const { return feet_view_; }
-  QChartView* loadsView() const { return loads_view_; }
+  QChartView* timingView() const { return views_[kTiming]; }
+  QChartView* feetView() const { return views_[kFeet]; }
+  QChartView* loadsView() const { return views_[kLoads]; }
 
  private:
   // What one chart shows: its lines' points, the time span and the y range.
@@ -60,11 +60,8 @@ class TelemetryPanel : public QWidget {
 
   QLabel* pose_;
   QTableWidget* legs_;
-  QChartView* timing_view_;
-  QChartView* feet_view_;
-  QChartView* loads_view_;
+  std::array<QChartView*, kPlotCount> views_;
   QTabWidget* plots_;
-  std::array<QChartView*, kPlotCount> views_{};
   // Per plot: for the timing plot, each lane's upper then lower line; for
   // the others, one line per leg.
   std::array<std::vector<QLineSeries*>, kPlotCount> series_{};
