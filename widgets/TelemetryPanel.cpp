@@ -262,10 +262,9 @@ void TelemetryPanel::redraw(Plot plot) {
   // The axis is laid out again (its labels measured) whenever its range
   // changes: it grows by round steps, not with every refresh.
   const double end = roundUp(std::max(data.span_s, 1.0));
-  if (x->max() != end) {
-    x->setRange(0, end);
-    x->setLabelFormat(end < 10 ? "%.1f" : "%.0f");
-  }
+  const QString format = end < 10 ? "%.1f" : "%.0f";
+  if (x->max() != end) x->setRange(0, end);
+  if (x->labelFormat() != format) x->setLabelFormat(format);
   // The lanes' axis is a category axis, set once.
   auto* y = qobject_cast<QValueAxis*>(chart->axes(Qt::Vertical).front());
   if (plot != kTiming && y && data.y_hi > data.y_lo) y->setRange(data.y_lo, data.y_hi);

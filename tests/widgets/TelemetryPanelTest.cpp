@@ -70,6 +70,7 @@ class TelemetryPanelTest : public QObject {
     auto* x = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Horizontal).front());
     QCOMPARE(x->min(), 0.0);
     QCOMPARE(x->max(), 5.0);
+    QCOMPARE(x->labelFormat(), QString("%.1f"));
     auto* y = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Vertical).front());
     QVERIFY(std::abs(y->min() - (0.0 - 0.05)) < 1e-9);
     QVERIFY(std::abs(y->max() - (0.59 + 0.05)) < 1e-9);
@@ -88,6 +89,21 @@ class TelemetryPanelTest : public QObject {
     panel.setHistory(shorter, 100.0);
     QCOMPARE(panel.loadsView()->chart()->series().size(), series_before);
     QCOMPARE(legLine(panel.loadsView(), 2)->count(), 4);
+  }
+
+  // Under a second of history the time axis spans one second (its range
+  // from the start) and still labels tenths.
+  void aFirstSecondIsLabelledInTenths() {
+    TelemetryPanel panel;
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    tabsOf(panel.feetView())->setCurrentWidget(panel.feetView());
+    auto samples = history();
+    samples.resize(2);
+    panel.setHistory(samples, 100.0);
+    auto* x = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Horizontal).front());
+    QCOMPARE(x->max(), 1.0);
+    QCOMPARE(x->labelFormat(), QString("%.1f"));
   }
 };
 
