@@ -93,7 +93,8 @@ nlohmann::json evalMapping(const EvalMappingArgs& args) {
         Eigen::Translation3d(0.1 * travelled * drift) * truth *
         Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d(u(rng), u(rng), 1).normalized());
     auto start = std::chrono::steady_clock::now();
-    const auto r = mapping::registerClouds(b.points, a.points, dead_reckoned);
+    const auto r = mapping::registerClouds(b.points, a.points, dead_reckoned, {},
+                                           {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
     icp_ms.push_back(millisecondsSince(start));
     trans_pct.push_back(100 * (r.transform.translation() - truth.translation()).norm() / travelled);
     rot_deg.push_back(angleDeg(r.transform.linear(), truth.linear()));
@@ -245,6 +246,7 @@ nlohmann::json evalDem(const EvalDemArgs& args) {
 struct RegisterArgs {
   std::string source, target, initial = "0,0,0,0,0,0", about = "0,0,0", out;
   bool global = false;
+  bool ignore_viewpoint = false;
   double cell_m = 1.0;
   bool json = true;  // the only output form
 };
@@ -288,8 +290,8 @@ nlohmann::json qualityJson(const mapping::RegistrationQuality& q) {
 void runRegister(const RegisterArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const auto guess = guessFrom(args.initial, args.about);
-  const auto source = mapping::readCloud(args.source);
-  const auto target = mapping::readCloud(args.target);
+  auto [source, source_scanner] = mapping::readScan(args.source);
+  auto [target, target_scanner] = mapping::readScan(args.target);
   const double read_ms = millisecondsSince(start);
   mapping::Registration r;
   if (args.global) {
@@ -299,10 +301,14 @@ void runRegister(const RegisterArgs& args) {
     if (!found) throw std::runtime_error("no placement of the source overlaps the model enough");
     r = *found;
   } else {
-    r = mapping::registerClouds(source, target, guess);
+    mapping::ScannerOrigins scanners;
+    if (!args.ignore_viewpoint) scanners = {source_scanner, target_scanner};
+    r = mapping::registerClouds(source, target, guess, {}, scanners);
   }
   const double ms = millisecondsSince(start);
-  if (!args.out.empty()) mapping::writeCloud(args.out, mapping::transformed(source, r.transform));
+  if (!args.out.empty())
+    mapping::writeCloud(args.out, mapping::transformed(source, r.transform),
+                        r.transform * source_scanner.value_or(Eigen::Vector3d::Zero()));
   const Eigen::Matrix4d m = r.transform.matrix();
   const Eigen::Vector3d t = r.transform.translation();
   printJson({{"source", args.source},
@@ -403,6 +409,10 @@ void addRegister(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--global", args->global,
                 "no prior: TARGET is a model on a regular grid, SOURCE a scan with z up");
+  cmd->add_flag("--ignore-viewpoint", args->ignore_viewpoint,
+                "the PCD files' VIEWPOINT is not where their scanner stood: use the points as "
+                "they are (default: each point is moved along its ray from there onto the "
+                "surface around it, docs/mapping.md)");
   cmd->add_option("--cell", args->cell_m, "--global: the model's grid spacing [m]")
       ->check(CLI::Range(0.01, 100.0))
       ->capture_default_str();

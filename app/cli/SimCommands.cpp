@@ -83,7 +83,7 @@ void runSimScan(const SimScanArgs& a) {
   // and levelled about the sensor, as the rover's inclinometers leave it
   // without knowing where or which way it is (for register --global), with
   // the course's model from orbital altimetry.
-  mapping::writeCloud(dir / "cloud.pcd", scan.pointsInWorld());
+  mapping::writeCloud(dir / "cloud.pcd", scan.pointsInWorld(), scan.sensor_to_world.translation());
   mapping::Cloud level;
   const Eigen::Matrix3d tilt = mapping::withoutYaw(scan.sensor_to_world.linear());
   for (const auto& p : scan.pointsInSensor()) level.push_back(tilt * p);

@@ -65,9 +65,11 @@ void runSimPairs(const SimPairsArgs& a) {
     mapping::writeCloud(sub / "source_level.pcd", pair.source);
     mapping::writeCloud(sub / "target_level.pcd", pair.target);
     mapping::writeCloud(sub / "source_world.pcd",
-                        mapping::transformed(pair.source, pair.source_to_world));
+                        mapping::transformed(pair.source, pair.source_to_world),
+                        pair.source_to_world.translation());
     mapping::writeCloud(sub / "target_world.pcd",
-                        mapping::transformed(pair.target, pair.target_to_world));
+                        mapping::transformed(pair.target, pair.target_to_world),
+                        pair.target_to_world.translation());
     const Eigen::Vector3d sensor = pair.source_to_world.translation();
     pairs.push_back({{"name", name},
                      {"family", sim::familyName(family)},

@@ -176,11 +176,13 @@ class HeaderReader {
     }
   }
 
-  void viewpoint(const std::vector<std::string>& args) const {
+  void viewpoint(const std::vector<std::string>& args) {
     if (args.size() != 7)
       p_.fail("VIEWPOINT has " + std::to_string(args.size()) + " numbers, not 7");
-    for (const auto& t : args)
-      if (!std::isfinite(p_.real(t, "VIEWPOINT"))) p_.fail("VIEWPOINT is not finite");
+    std::array<double, 7> v{};
+    for (std::size_t i = 0; i < 7; ++i)
+      if (!std::isfinite(v[i] = p_.real(args[i], "VIEWPOINT"))) p_.fail("VIEWPOINT is not finite");
+    h_.viewpoint = v;
   }
 
   void data(const std::vector<std::string>& args) {

@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,9 @@ struct PcdHeader {
   std::uint64_t width = 0, height = 0, points = 0;
   std::string data;               // ascii, binary or binary_compressed
   std::uint64_t data_offset = 0;  // first byte after the header
+  // VIEWPOINT: where the cloud was taken from (tx ty tz qw qx qy qz), when
+  // the header says.
+  std::optional<std::array<double, 7>> viewpoint;
 
   std::uint64_t pointBytes() const;
   std::size_t elementsPerPoint() const;

@@ -17,7 +17,9 @@
 
 namespace ambler::mapping {
 
-Cloud readCloud(const std::filesystem::path& pcd) {
+Cloud readCloud(const std::filesystem::path& pcd) { return readScan(pcd).points; }
+
+ScanFile readScan(const std::filesystem::path& pcd) {
   const auto cloud = io::readPcd(pcd, true);
   const int x = cloud.header.column("x"), y = cloud.header.column("y"),
             z = cloud.header.column("z");
@@ -27,11 +29,17 @@ Cloud readCloud(const std::filesystem::path& pcd) {
     const Eigen::Vector3d p(cloud.at(i, x), cloud.at(i, y), cloud.at(i, z));
     if (p.allFinite()) out.push_back(p);
   }
-  return out;
+  ScanFile scan{std::move(out), std::nullopt};
+  if (const auto& v = cloud.header.viewpoint)
+    scan.scanner = Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]);
+  return scan;
 }
 
-void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud) {
+void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud,
+                const Eigen::Vector3d& scanner) {
   pcl::PointCloud<pcl::PointXYZ> xyz;
+  xyz.sensor_origin_ =
+      Eigen::Vector4f(float(scanner.x()), float(scanner.y()), float(scanner.z()), 0.0f);
   for (const auto& p : cloud) xyz.push_back({float(p.x()), float(p.y()), float(p.z())});
   if (xyz.empty() || pcl::io::savePCDFileBinary(pcd.string(), xyz) < 0)
     throw io::FormatError("PCD '" + pcd.string() + "': cannot write " +

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 
 #include "mapping/Registration.h"
 #include "mapping/TerrainMesh.h"
@@ -11,7 +12,15 @@ namespace ambler::mapping {
 // (vertices and triangles; VTK's reader and writer): docs/formats.md.
 // Readers throw io::FormatError naming the file and the problem.
 Cloud readCloud(const std::filesystem::path& pcd);
-void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud);
+// A scan: its points and, from the PCD's VIEWPOINT, where its scanner stood
+// in the cloud's frame (PCL writes the origin when nobody set it).
+struct ScanFile {
+  Cloud points;
+  std::optional<Eigen::Vector3d> scanner;
+};
+ScanFile readScan(const std::filesystem::path& pcd);
+void writeCloud(const std::filesystem::path& pcd, const Cloud& cloud,
+                const Eigen::Vector3d& scanner = Eigen::Vector3d::Zero());
 TerrainMesh readMesh(const std::filesystem::path& ply);
 void writeMesh(const std::filesystem::path& ply, const TerrainMesh& mesh);
 

@@ -21,6 +21,9 @@ void validate(const RegistrationOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("registration option " + what);
   };
+  require(o.ray_voxel_m > 0 && o.ray_voxel_m <= o.voxel_m, "ray_voxel_m must be in (0, voxel_m]");
+  require(o.ray_neighbours == 0 || (o.ray_neighbours >= 5 && o.ray_neighbours <= 100),
+          "ray_neighbours must be 0 or in [5, 100]");
   require(o.voxel_m > 0 && o.voxel_m <= 1e3, "voxel_m must be in (0, 1 km]");
   require(o.source_voxel_m >= o.voxel_m && o.source_voxel_m <= 1e3,
           "source_voxel_m must be in [voxel_m, 1 km]");
@@ -138,6 +141,52 @@ std::vector<Eigen::Vector3f> asFloat(const std::vector<Eigen::Vector3d>& points)
   return out;
 }
 
+// The mean and the principal axes of a point's k nearest neighbours
+// (eigenvalues ascending: the first eigenvector is the normal).
+struct Neighbourhood {
+  Eigen::Vector3d mean;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shape;
+};
+
+Neighbourhood neighbourhood(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
+                            const Eigen::Vector3d& at, int k) {
+  std::array<unsigned, 100> idx{};
+  std::array<float, 100> d2{};
+  const int n = index.nearest(at.cast<float>(), k, idx.data(), d2.data());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j = 0; j < n; ++j) mean += points[idx[std::size_t(j)]];
+  mean /= n;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector3d d = points[idx[std::size_t(j)]] - mean;
+    cov += d * d.transpose();
+  }
+  return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov / n)};
+}
+
+// Each point moved along its ray from `scanner` onto the plane of its
+// neighbours, by at most three times their spread across it: a range
+// error lies along the ray. Rays within 6 degrees of grazing the plane
+// stay (the crossing is ill-defined there).
+std::vector<Eigen::Vector3d> ontoNeighbourPlanes(const std::vector<Eigen::Vector3d>& points,
+                                                 const Eigen::Vector3d& scanner, int k,
+                                                 int threads) {
+  const PointIndex index(asFloat(points));
+  std::vector<Eigen::Vector3d> out(points);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto near = neighbourhood(points, index, points[i], k);
+    const Eigen::Vector3d normal = near.shape.eigenvectors().col(0);
+    const Eigen::Vector3d ray = (points[i] - scanner).normalized();
+    const double cosine = normal.dot(ray);
+    if (!(std::abs(cosine) >= 0.1)) continue;
+    const double reach =
+        3 * std::sqrt(std::max(near.shape.eigenvalues()[0], 0.0)) / std::abs(cosine);
+    out[i] += std::clamp(-normal.dot(points[i] - near.mean) / cosine, -reach, reach) * ray;
+  }
+  return out;
+}
+
 // Each point's neighbourhood as a covariance: a plane along its normal, as
 // thin across as the floor and as wide along as the neighbourhood's
 // narrower spread (at least a voxel), so that pairs pull across surfaces
@@ -149,19 +198,8 @@ std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points, const Po
   const int k = o.neighbours;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
-    std::array<unsigned, 100> idx{};
-    std::array<float, 100> d2{};
-    const int n = index.nearest(points[i].cast<float>(), k, idx.data(), d2.data());
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int j = 0; j < n; ++j) mean += points[idx[std::size_t(j)]];
-    mean /= n;
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (int j = 0; j < n; ++j) {
-      const Eigen::Vector3d d = points[idx[std::size_t(j)]] - mean;
-      cov += d * d.transpose();
-    }
-    cov /= n;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    const auto near = neighbourhood(points, index, points[i], k);
+    const auto& es = near.shape;
     const Eigen::Vector3d normal = es.eigenvectors().col(0);
     const Eigen::Matrix3d across = normal * normal.transpose();
     const double along = std::max(es.eigenvalues()[1], o.voxel_m * o.voxel_m);
@@ -397,11 +435,21 @@ RegistrationQuality judge(const std::vector<Surfel>& source, const std::vector<S
   return q;
 }
 
-// The cloud's voxel means in the working frame; at least 10 of them, so
-// that every point has neighbours enough for its covariance.
+// The cloud's voxel means in the working frame, its points first moved
+// along their rays when its scanner is known; at least 10 of them, so that
+// every point has neighbours enough for its covariance.
 std::vector<Eigen::Vector3d> thinned(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
-                                     const RegistrationOptions& o, const char* which) {
-  auto out = voxelMeans(cloud, to_frame, o.voxel_m);
+                                     const std::optional<Eigen::Vector3d>& scanner,
+                                     const RegistrationOptions& o, int threads, const char* which) {
+  std::vector<Eigen::Vector3d> out;
+  if (scanner && o.ray_neighbours > 0) {
+    auto fine = voxelMeans(cloud, to_frame, o.ray_voxel_m);
+    if (fine.size() > std::size_t(o.ray_neighbours))
+      fine = ontoNeighbourPlanes(fine, to_frame * *scanner, o.ray_neighbours, threads);
+    out = voxelMeans(fine, Eigen::Isometry3d::Identity(), o.voxel_m);
+  } else {
+    out = voxelMeans(cloud, to_frame, o.voxel_m);
+  }
   if (out.size() < 10)
     throw std::invalid_argument(std::string("registration: the ") + which + " has " +
                                 std::to_string(out.size()) +
@@ -420,7 +468,8 @@ std::vector<Eigen::Vector3d> positions(const std::vector<Surfel>& surfels,
 }  // namespace
 
 Registration registerClouds(const Cloud& source, const Cloud& target,
-                            const Eigen::Isometry3d& initial, const RegistrationOptions& o) {
+                            const Eigen::Isometry3d& initial, const RegistrationOptions& o,
+                            const ScannerOrigins& scanners) {
   validate(o);
   if (!initial.matrix().allFinite())
     throw std::invalid_argument("registration: the initial transform is not finite");
@@ -433,10 +482,15 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   // Everything happens in the target's principal frame: thinning, the
   // height search (its z is across the ground) and GICP.
   const Eigen::Isometry3d frame = principalFrame(target);
-  const auto target_points = thinned(target, frame.inverse(), o, "target");
+  if ((scanners.source && !scanners.source->allFinite()) ||
+      (scanners.target && !scanners.target->allFinite()))
+    throw std::invalid_argument("registration: a scanner's origin is not finite");
+  const auto target_points =
+      thinned(target, frame.inverse(), scanners.target, o, threads, "target");
   const PointIndex index(asFloat(target_points));
   const auto fixed = surfels(target_points, index, o, threads);
-  const auto source_points = thinned(source, frame.inverse() * initial, o, "source");
+  const auto source_points =
+      thinned(source, frame.inverse() * initial, scanners.source, o, threads, "source");
   const auto placed = surfels(source_points, PointIndex(asFloat(source_points)), o, threads);
   const auto moving = sparser(placed, o.source_voxel_m);
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
@@ -467,7 +521,18 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
                                ? heightAgreement(positions(placed, fit.transform), target_points,
                                                  o.search.cell_m, o.agreement_tolerance_m)
                                : std::numeric_limits<double>::quiet_NaN();
-  r.quality = judge(moving, fixed, index, fit, frame, agreement, o, threads);
+  // The verdict weighs the source's points where the scan put them: moved
+  // onto their neighbours' planes they share their errors, and their
+  // residual would understate the noise.
+  if (scanners.source && o.ray_neighbours > 0) {
+    std::vector<Surfel> as_scanned;
+    for (const auto& p : voxelMeans(source, frame.inverse() * initial, o.voxel_m))
+      as_scanned.push_back({p, Eigen::Matrix3d::Identity(), Eigen::Vector3d::UnitZ()});
+    r.quality = judge(sparser(as_scanned, o.source_voxel_m), fixed, index, fit, frame, agreement, o,
+                      threads);
+  } else {
+    r.quality = judge(moving, fixed, index, fit, frame, agreement, o, threads);
+  }
   r.rms_m = r.quality.rms_m;
   return r;
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,12 @@ Cloud transformed(const Cloud& cloud, const Eigen::Isometry3d& motion);
 // frame set by the target itself (its centroid and principal axes), so the
 // result does not depend on the frame the clouds come in.
 struct RegistrationOptions {
+  // A cloud whose scanner is known is first thinned to voxel means this
+  // size and each point moved along its ray onto the plane of its nearest
+  // neighbours: a rangefinder's noise lies along the ray, so the point's
+  // true place is on it (ScannerOrigins).
+  double ray_voxel_m = 0.05;
+  int ray_neighbours = 45;         // 0: the points stay where the scan put them
   double voxel_m = 0.1;            // thinning of both clouds: one mean point per voxel
   double source_voxel_m = 0.2;     // of those, one per voxel this size is moved first
   int neighbours = 20;             // of a point, for its covariance
@@ -88,11 +95,19 @@ struct Registration {
   RegistrationQuality quality;
 };
 
+// Where each cloud's scanner stood, in that cloud's own frame (the origin
+// of a scan in its sensor's frame); unknown, its points are used as they
+// are.
+struct ScannerOrigins {
+  std::optional<Eigen::Vector3d> source, target;
+};
+
 // Aligns `source` to `target` from `initial` (e.g. dead reckoning). Throws
 // std::invalid_argument for clouds too small to register or non-finite
 // input.
 Registration registerClouds(const Cloud& source, const Cloud& target,
                             const Eigen::Isometry3d& initial,
-                            const RegistrationOptions& options = {});
+                            const RegistrationOptions& options = {},
+                            const ScannerOrigins& scanners = {});
 
 }  // namespace ambler::mapping

@@ -169,8 +169,11 @@ TEST(MappingFiles, MeshesAndCloudsSurviveTheirFiles) {
   const auto dir = std::filesystem::temp_directory_path() / "ambler_mapping_files_test";
   std::filesystem::create_directories(dir);
   const auto points = sampled(cone, 0, 0, 20, 10, 0.5);
-  writeCloud(dir / "cloud.pcd", points);
+  writeCloud(dir / "cloud.pcd", points, Eigen::Vector3d(1.5, -2.0, 5.0));
   const auto cloud = readCloud(dir / "cloud.pcd");
+  const auto scan = readScan(dir / "cloud.pcd");
+  ASSERT_TRUE(scan.scanner.has_value());  // from the PCD's VIEWPOINT
+  EXPECT_LT((*scan.scanner - Eigen::Vector3d(1.5, -2.0, 5.0)).norm(), 1e-6);
   ASSERT_EQ(cloud.size(), points.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LT((cloud[i] - points[i]).norm(), 1e-5);
   const auto mesh = triangulate(cloud);
