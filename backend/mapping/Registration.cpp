@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -141,15 +142,80 @@ std::vector<Eigen::Vector3f> asFloat(const std::vector<Eigen::Vector3d>& points)
   return out;
 }
 
-// The mean and the principal axes of a point's k nearest neighbours
-// (eigenvalues ascending: the first eigenvector is the normal).
-struct Neighbourhood {
+// Sums over points, from which their mean and covariance follow.
+struct Moments {
+  double n = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  void add(const Eigen::Vector3d& p) { n += 1, sum += p, outer.noalias() += p * p.transpose(); }
+  void add(const Moments& m) { n += m.n, sum += m.sum, outer += m.outer; }
+};
+
+// The points' moments in cubic cells of one size, and for each occupied
+// cell those of the 3 x 3 x 3 cells around it.
+class CellBlocks {
+ public:
+  CellBlocks(const std::vector<Eigen::Vector3d>& points, double cell, int threads) : cell_(cell) {
+    index_.reserve(points.size());
+    for (const auto& p : points) cellOf(coordinates(p)).add(p);
+    sumBlocks(threads);
+  }
+  // Cells twice the size of `finer`'s, from its cells.
+  CellBlocks(const CellBlocks& finer, int threads) : cell_(2 * finer.cell_) {
+    index_.reserve(finer.size());
+    for (std::size_t c = 0; c < finer.cells_.size(); ++c)
+      cellOf(finer.coords_[c].unaryExpr([](int v) { return v >> 1; })).add(finer.cells_[c]);
+    sumBlocks(threads);
+  }
+  std::size_t size() const { return cells_.size(); }
+  const Eigen::Vector3i& cell(std::size_t c) const { return coords_[c]; }
+  // The cell holding `p`, one of the points given.
+  std::size_t holding(const Eigen::Vector3d& p) const { return index_.at(key(coordinates(p))); }
+  // The block around cell `c`, one of the occupied ones.
+  const Moments& around(const Eigen::Vector3i& c) const { return blocks_[index_.at(key(c))]; }
+  const Moments& around(std::size_t c) const { return blocks_[c]; }
+
+ private:
+  Eigen::Vector3i coordinates(const Eigen::Vector3d& p) const {
+    return (p / cell_).array().floor().cast<int>();
+  }
+  Moments& cellOf(const Eigen::Vector3i& c) {
+    const auto [it, fresh] = index_.try_emplace(key(c), cells_.size());
+    if (fresh) cells_.emplace_back(), coords_.push_back(c);
+    return cells_[it->second];
+  }
+  void sumBlocks(int threads) {
+    blocks_.resize(cells_.size());
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::size_t c = 0; c < cells_.size(); ++c)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = index_.find(key(coords_[c] + Eigen::Vector3i(dx, dy, dz)));
+            if (it != index_.end()) blocks_[c].add(cells_[it->second]);
+          }
+  }
+  static std::uint64_t key(const Eigen::Vector3i& c) {
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) k = k << 21 | std::uint64_t(std::int64_t(c[a]) + kVoxelSpan);
+    return k;
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::size_t> index_;
+  std::vector<Eigen::Vector3i> coords_;
+  std::vector<Moments> cells_, blocks_;
+};
+
+// The mean and principal axes of some points (eigenvalues ascending: the
+// first eigenvector is the normal).
+struct Plane {
   Eigen::Vector3d mean;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shape;
 };
 
-Neighbourhood neighbourhood(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
-                            const Eigen::Vector3d& at, int k) {
+// Of a point's k nearest neighbours.
+Plane nearestPlane(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
+                   const Eigen::Vector3d& at, int k) {
   std::array<unsigned, 100> idx{};
   std::array<float, 100> d2{};
   const int n = index.nearest(at.cast<float>(), k, idx.data(), d2.data());
@@ -164,42 +230,90 @@ Neighbourhood neighbourhood(const std::vector<Eigen::Vector3d>& points, const Po
   return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov / n)};
 }
 
-// Each point moved along its ray from `scanner` onto the plane of its
-// neighbours, by at most three times their spread across it: a range
-// error lies along the ray. Rays within 6 degrees of grazing the plane
-// stay (the crossing is ill-defined there).
+// Cells from `first_cell`, doubling up to 4 m (KISS-ICP's
+// voxel hashing, with moments instead of points): a point's neighbourhood
+// is a block of cells around its own, found in constant time.
+std::vector<CellBlocks> cellScales(const std::vector<Eigen::Vector3d>& points, double first_cell,
+                                   int threads) {
+  std::vector<CellBlocks> scales;
+  scales.emplace_back(points, first_cell, threads);
+  for (double cell = 2 * first_cell; cell <= 4.0; cell *= 2)
+    scales.emplace_back(scales.back(), threads);
+  return scales;
+}
+
+// For each cell of the finest scale, the plane of the smallest block
+// around it holding at least k points (none when no block does). A finer
+// cell lies in one cell of each coarser scale, found by halving its
+// coordinates (arithmetic shifts floor negatives too).
+std::vector<std::optional<Plane>> cellPlanes(const std::vector<CellBlocks>& scales, int k,
+                                             int threads) {
+  std::vector<std::optional<Plane>> planes(scales.front().size());
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::size_t c = 0; c < planes.size(); ++c) {
+    for (std::size_t j = 0; j < scales.size(); ++j) {
+      const Moments& block =
+          j == 0 ? scales[0].around(c)
+                 : scales[j].around(scales[0].cell(c).unaryExpr([&](int v) { return v >> j; }));
+      if (block.n < k) continue;
+      Plane plane{block.sum / block.n, {}};
+      plane.shape.computeDirect(block.outer / block.n - plane.mean * plane.mean.transpose());
+      planes[c] = plane;
+      break;
+    }
+  }
+  return planes;
+}
+
+// Each point moved along its ray from `scanner` onto the plane of the
+// points around it (cellPlanes), by at most three times their spread
+// across it: a range error lies along the ray. The block grows with range
+// as the points thin out, and the noise grows. Rays within 6 degrees of
+// grazing the plane stay (the crossing is ill-defined there).
 std::vector<Eigen::Vector3d> ontoNeighbourPlanes(const std::vector<Eigen::Vector3d>& points,
-                                                 const Eigen::Vector3d& scanner, int k,
-                                                 int threads) {
-  const PointIndex index(asFloat(points));
+                                                 const Eigen::Vector3d& scanner, double spacing,
+                                                 int k, int threads) {
+  // The first cells are four spacings wide: blocks of cells two spacings
+  // wide hold about 36 points of a plane, too few to be chosen.
+  const auto scales = cellScales(points, 4 * spacing, threads);
+  const auto planes = cellPlanes(scales, k, threads);
   std::vector<Eigen::Vector3d> out(points);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto near = neighbourhood(points, index, points[i], k);
-    const Eigen::Vector3d normal = near.shape.eigenvectors().col(0);
+    const auto& plane = planes[scales.front().holding(points[i])];
+    if (!plane) continue;
+    const Eigen::Vector3d normal = plane->shape.eigenvectors().col(0);
     const Eigen::Vector3d ray = (points[i] - scanner).normalized();
     const double cosine = normal.dot(ray);
     if (!(std::abs(cosine) >= 0.1)) continue;
     const double reach =
-        3 * std::sqrt(std::max(near.shape.eigenvalues()[0], 0.0)) / std::abs(cosine);
-    out[i] += std::clamp(-normal.dot(points[i] - near.mean) / cosine, -reach, reach) * ray;
+        3 * std::sqrt(std::max(plane->shape.eigenvalues()[0], 0.0)) / std::abs(cosine);
+    out[i] += std::clamp(-normal.dot(points[i] - plane->mean) / cosine, -reach, reach) * ray;
   }
   return out;
 }
 
-// Each point's neighbourhood as a covariance: a plane along its normal, as
+// Each point's neighbourhood (the smallest block of cells around it holding
+// `neighbours` points, else as many nearest points) as a covariance: a
+// plane along its normal, as
 // thin across as the floor and as wide along as the neighbourhood's
 // narrower spread (at least a voxel), so that pairs pull across surfaces
 // and slide along them (plane-to-plane GICP). The neighbourhood's measured
 // thickness was tried instead: on noisy scans it made the fit worse.
-std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points, const PointIndex& index,
+std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
                             const RegistrationOptions& o, int threads) {
-  std::vector<Surfel> out(points.size());
   const int k = o.neighbours;
+  const auto scales = cellScales(points, 2 * o.voxel_m, threads);
+  const auto planes = cellPlanes(scales, k, threads);
+  // Points too sparse for any block take their k nearest neighbours.
+  std::unique_ptr<PointIndex> index;
+  if (std::any_of(planes.begin(), planes.end(), [](const auto& p) { return !p; }))
+    index = std::make_unique<PointIndex>(asFloat(points));
+  std::vector<Surfel> out(points.size());
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto near = neighbourhood(points, index, points[i], k);
-    const auto& es = near.shape;
+    const auto& block = planes[scales.front().holding(points[i])];
+    const auto& es = block ? block->shape : nearestPlane(points, *index, points[i], k).shape;
     const Eigen::Vector3d normal = es.eigenvectors().col(0);
     const Eigen::Matrix3d across = normal * normal.transpose();
     const double along = std::max(es.eigenvalues()[1], o.voxel_m * o.voxel_m);
@@ -445,7 +559,8 @@ std::vector<Eigen::Vector3d> thinned(const Cloud& cloud, const Eigen::Isometry3d
   if (scanner && o.ray_neighbours > 0) {
     auto fine = voxelMeans(cloud, to_frame, o.ray_voxel_m);
     if (fine.size() > std::size_t(o.ray_neighbours))
-      fine = ontoNeighbourPlanes(fine, to_frame * *scanner, o.ray_neighbours, threads);
+      fine =
+          ontoNeighbourPlanes(fine, to_frame * *scanner, o.ray_voxel_m, o.ray_neighbours, threads);
     out = voxelMeans(fine, Eigen::Isometry3d::Identity(), o.voxel_m);
   } else {
     out = voxelMeans(cloud, to_frame, o.voxel_m);
@@ -488,10 +603,10 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   const auto target_points =
       thinned(target, frame.inverse(), scanners.target, o, threads, "target");
   const PointIndex index(asFloat(target_points));
-  const auto fixed = surfels(target_points, index, o, threads);
+  const auto fixed = surfels(target_points, o, threads);
   const auto source_points =
       thinned(source, frame.inverse() * initial, scanners.source, o, threads, "source");
-  const auto placed = surfels(source_points, PointIndex(asFloat(source_points)), o, threads);
+  const auto placed = surfels(source_points, o, threads);
   const auto moving = sparser(placed, o.source_voxel_m);
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
   if (o.search_heights) start = searchHeights(source_points, target_points, o.search);
