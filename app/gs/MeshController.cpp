@@ -64,7 +64,7 @@ void MeshController::clearWalkScans() {
 void MeshController::dropWalkScans() { chain_.clear(); }
 
 void MeshController::addWalkScan(const sensor::RangeImage& scan) {
-  chain_.add(scan.pointsInWorld());
+  chain_.add(scan.pointsInWorld(), scan.sensor_to_world.translation());
   registerNext();
   refresh();
 }

@@ -17,9 +17,12 @@ class ScanChain {
   struct Job {
     Cloud source;  // the next scan, as dead reckoning placed it
     Cloud target;  // the last one registered
+    ScannerOrigins scanners;
   };
 
-  void add(Cloud scan);  // queued behind any other
+  // Queued behind any other; `scanner` is where it was taken from, in the
+  // same frame as its points.
+  void add(Cloud scan, const Eigen::Vector3d& scanner);
   // The next registration to run, once none is under way; a first scan is
   // taken as the reference at once. None when nothing waits.
   std::optional<Job> next();
@@ -46,9 +49,14 @@ class ScanChain {
   static Registration run(const Job& job, const RegistrationOptions& options = {});
 
  private:
-  std::deque<Cloud> waiting_;
-  std::optional<Cloud> in_flight_;
+  struct Scan {
+    Cloud points;
+    Eigen::Vector3d scanner;
+  };
+  std::deque<Scan> waiting_;
+  std::optional<Scan> in_flight_;
   std::vector<Cloud> registered_;
+  Eigen::Vector3d last_scanner_ = Eigen::Vector3d::Zero();  // of registered_.back()
   Registration last_;
 };
 

@@ -22,8 +22,9 @@ TEST(ScanChain, EachScanIsRegisteredAgainstTheOneBefore) {
   const Eigen::Isometry3d drift = Eigen::Translation3d(0.3, -0.2, 0.0) *
                                   Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitZ());
   ScanChain chain;
-  chain.add(inWorld(a, a.pose));
-  chain.add(inWorld(b, drift * b.pose));  // where dead reckoning put it
+  chain.add(inWorld(a, a.pose), a.pose.translation());
+  // Where dead reckoning put it.
+  chain.add(inWorld(b, drift * b.pose), (drift * b.pose).translation());
   const auto job = chain.next();
   ASSERT_TRUE(job.has_value());  // the first became the reference
   EXPECT_EQ(chain.registered().size(), 1u);
@@ -43,8 +44,8 @@ TEST(ScanChain, EachScanIsRegisteredAgainstTheOneBefore) {
 
 TEST(ScanChain, AJobClearedWhileItRanFinishesIntoNothing) {
   ScanChain chain;
-  chain.add({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-  chain.add({{0, 0, 0.1}});
+  chain.add({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 0, 5});
+  chain.add({{0, 0, 0.1}}, {0, 0, 5});
   const auto job = chain.next();
   ASSERT_TRUE(job.has_value());
   const auto result = ScanChain::run(*job);  // too few points: identity
