@@ -105,14 +105,19 @@ Eigen::Isometry3d principalFrame(const Cloud& cloud) {
   return frame;
 }
 
-// A voxel's index packed in 21 bits per axis, for points within
-// kVoxelSpan voxels of the origin.
+// A cell's index packed in 21 bits per axis, for cells within kVoxelSpan
+// of the origin.
 constexpr std::int64_t kVoxelSpan = std::int64_t(1) << 20;
-std::uint64_t voxelKey(const Eigen::Vector3d& p, double voxel) {
-  const Eigen::Vector3d v = (p / voxel).array().floor();
+std::uint64_t cellKey(const Eigen::Vector3i& c) {
   std::uint64_t key = 0;
-  for (int a = 0; a < 3; ++a) key = key << 21 | std::uint64_t(std::int64_t(v[a]) + kVoxelSpan);
+  for (int a = 0; a < 3; ++a) key = key << 21 | std::uint64_t(std::int64_t(c[a]) + kVoxelSpan);
   return key;
+}
+Eigen::Vector3i cellOfPoint(const Eigen::Vector3d& p, double cell) {
+  return (p / cell).array().floor().cast<int>();
+}
+std::uint64_t voxelKey(const Eigen::Vector3d& p, double voxel) {
+  return cellKey(cellOfPoint(p, voxel));
 }
 
 // One mean point per occupied voxel, in the order the voxels were first met.
@@ -157,7 +162,7 @@ class CellBlocks {
  public:
   CellBlocks(const std::vector<Eigen::Vector3d>& points, double cell, int threads) : cell_(cell) {
     index_.reserve(points.size());
-    for (const auto& p : points) cellOf(coordinates(p)).add(p);
+    for (const auto& p : points) cellOf(cellOfPoint(p, cell_)).add(p);
     sumBlocks(threads);
   }
   // Cells twice the size of `finer`'s, from its cells.
@@ -170,17 +175,14 @@ class CellBlocks {
   std::size_t size() const { return cells_.size(); }
   const Eigen::Vector3i& cell(std::size_t c) const { return coords_[c]; }
   // The cell holding `p`, one of the points given.
-  std::size_t holding(const Eigen::Vector3d& p) const { return index_.at(key(coordinates(p))); }
+  std::size_t holding(const Eigen::Vector3d& p) const { return index_.at(voxelKey(p, cell_)); }
   // The block around cell `c`, one of the occupied ones.
-  const Moments& around(const Eigen::Vector3i& c) const { return blocks_[index_.at(key(c))]; }
+  const Moments& around(const Eigen::Vector3i& c) const { return blocks_[index_.at(cellKey(c))]; }
   const Moments& around(std::size_t c) const { return blocks_[c]; }
 
  private:
-  Eigen::Vector3i coordinates(const Eigen::Vector3d& p) const {
-    return (p / cell_).array().floor().cast<int>();
-  }
   Moments& cellOf(const Eigen::Vector3i& c) {
-    const auto [it, fresh] = index_.try_emplace(key(c), cells_.size());
+    const auto [it, fresh] = index_.try_emplace(cellKey(c), cells_.size());
     if (fresh) cells_.emplace_back(), coords_.push_back(c);
     return cells_[it->second];
   }
@@ -191,14 +193,9 @@ class CellBlocks {
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dz = -1; dz <= 1; ++dz) {
-            const auto it = index_.find(key(coords_[c] + Eigen::Vector3i(dx, dy, dz)));
+            const auto it = index_.find(cellKey(coords_[c] + Eigen::Vector3i(dx, dy, dz)));
             if (it != index_.end()) blocks_[c].add(cells_[it->second]);
           }
-  }
-  static std::uint64_t key(const Eigen::Vector3i& c) {
-    std::uint64_t k = 0;
-    for (int a = 0; a < 3; ++a) k = k << 21 | std::uint64_t(std::int64_t(c[a]) + kVoxelSpan);
-    return k;
   }
   double cell_;
   std::unordered_map<std::uint64_t, std::size_t> index_;
@@ -295,10 +292,9 @@ std::vector<Eigen::Vector3d> ontoNeighbourPlanes(const std::vector<Eigen::Vector
 
 // Each point's neighbourhood (the smallest block of cells around it holding
 // `neighbours` points, else as many nearest points) as a covariance: a
-// plane along its normal, as
-// thin across as the floor and as wide along as the neighbourhood's
-// narrower spread (at least a voxel), so that pairs pull across surfaces
-// and slide along them (plane-to-plane GICP). The neighbourhood's measured
+// plane along its normal, as thin across as the floor and as wide along as
+// the neighbourhood's narrower spread (at least a voxel), so that pairs
+// pull across surfaces and slide along them (plane-to-plane GICP). The neighbourhood's measured
 // thickness was tried instead: on noisy scans it made the fit worse.
 std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
                             const RegistrationOptions& o, int threads) {
@@ -325,12 +321,16 @@ std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
   return out;
 }
 
-// The source points moved: one per coarse voxel, the first met.
-std::vector<Surfel> sparser(const std::vector<Surfel>& surfels, double voxel) {
+const Eigen::Vector3d& position(const Surfel& s) { return s.p; }
+const Eigen::Vector3d& position(const Eigen::Vector3d& p) { return p; }
+
+// One per coarse voxel, the first met.
+template <class Point>
+std::vector<Point> sparser(const std::vector<Point>& points, double voxel) {
   std::unordered_map<std::uint64_t, char> seen;
-  std::vector<Surfel> out;
-  for (const auto& s : surfels) {
-    if (seen.try_emplace(voxelKey(s.p, voxel), 1).second) out.push_back(s);
+  std::vector<Point> out;
+  for (const auto& p : points) {
+    if (seen.try_emplace(voxelKey(position(p), voxel), 1).second) out.push_back(p);
   }
   return out;
 }
@@ -454,14 +454,15 @@ std::string axisName(const Eigen::Vector3d& v, const char* const names[3]) {
 
 // Partners, residual and the conditioning of the point-to-plane problem at
 // the fit; `frame` turns the working frame's directions into the target's.
-RegistrationQuality judge(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
-                          const PointIndex& index, const Fit& fit, const Eigen::Isometry3d& frame,
-                          double agreement, const RegistrationOptions& o, int threads) {
+RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
+                          const std::vector<Surfel>& target, const PointIndex& index,
+                          const Fit& fit, const Eigen::Isometry3d& frame, double agreement,
+                          const RegistrationOptions& o, int threads) {
   RegistrationQuality q;
   q.agreement = agreement;
   const float limit2 = float(o.partner_distance_m * o.partner_distance_m);
   const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
-    const Eigen::Vector3d p = fit.transform * source[i].p;
+    const Eigen::Vector3d p = fit.transform * source[i];
     const auto hit = index.nearest(p.cast<float>(), limit2);
     if (hit.index < 0) return;
     const Surfel& t = target[std::size_t(hit.index)];
@@ -557,10 +558,9 @@ std::vector<Eigen::Vector3d> thinned(const Cloud& cloud, const Eigen::Isometry3d
                                      const RegistrationOptions& o, int threads, const char* which) {
   std::vector<Eigen::Vector3d> out;
   if (scanner && o.ray_neighbours > 0) {
-    auto fine = voxelMeans(cloud, to_frame, o.ray_voxel_m);
-    if (fine.size() > std::size_t(o.ray_neighbours))
-      fine =
-          ontoNeighbourPlanes(fine, to_frame * *scanner, o.ray_voxel_m, o.ray_neighbours, threads);
+    const auto fine =
+        ontoNeighbourPlanes(voxelMeans(cloud, to_frame, o.ray_voxel_m), to_frame * *scanner,
+                            o.ray_voxel_m, o.ray_neighbours, threads);
     out = voxelMeans(fine, Eigen::Isometry3d::Identity(), o.voxel_m);
   } else {
     out = voxelMeans(cloud, to_frame, o.voxel_m);
@@ -639,15 +639,11 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   // The verdict weighs the source's points where the scan put them: moved
   // onto their neighbours' planes they share their errors, and their
   // residual would understate the noise.
-  if (scanners.source && o.ray_neighbours > 0) {
-    std::vector<Surfel> as_scanned;
-    for (const auto& p : voxelMeans(source, frame.inverse() * initial, o.voxel_m))
-      as_scanned.push_back({p, Eigen::Matrix3d::Identity(), Eigen::Vector3d::UnitZ()});
-    r.quality = judge(sparser(as_scanned, o.source_voxel_m), fixed, index, fit, frame, agreement, o,
-                      threads);
-  } else {
-    r.quality = judge(moving, fixed, index, fit, frame, agreement, o, threads);
-  }
+  const auto as_scanned = scanners.source && o.ray_neighbours > 0
+                              ? voxelMeans(source, frame.inverse() * initial, o.voxel_m)
+                              : source_points;
+  r.quality =
+      judge(sparser(as_scanned, o.source_voxel_m), fixed, index, fit, frame, agreement, o, threads);
   r.rms_m = r.quality.rms_m;
   return r;
 }

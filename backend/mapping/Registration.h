@@ -23,9 +23,10 @@ Cloud transformed(const Cloud& cloud, const Eigen::Isometry3d& motion);
 // result does not depend on the frame the clouds come in.
 struct RegistrationOptions {
   // A cloud whose scanner is known is first thinned to voxel means this
-  // size and each point moved along its ray onto the plane of its nearest
-  // neighbours: a rangefinder's noise lies along the ray, so the point's
-  // true place is on it (ScannerOrigins).
+  // size and each moved along its ray onto the plane of the points around
+  // it (the smallest block of hashed cells holding ray_neighbours of them):
+  // a rangefinder's noise lies along the ray, so the point's true place is
+  // on it (ScannerOrigins).
   double ray_voxel_m = 0.05;
   int ray_neighbours = 45;         // 0: the points stay where the scan put them
   double voxel_m = 0.1;            // thinning of both clouds: one mean point per voxel
