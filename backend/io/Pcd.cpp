@@ -386,9 +386,13 @@ PcdCloud readPcd(const std::filesystem::path& path, bool require_xyz) {
   const Parser p(path);
   PcdCloud c;
   c.header = readPcdHeader(path, require_xyz);
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in.tellg();
+  std::string rest(
+      std::size_t(std::max<std::streamoff>(0, size - std::streamoff(c.header.data_offset))), '\0');
   in.seekg(std::streamoff(c.header.data_offset));
-  const std::string rest(std::istreambuf_iterator<char>(in), {});
+  in.read(rest.data(), std::streamsize(rest.size()));
+  if (in.gcount() != std::streamsize(rest.size())) p.fail("cannot be read past its header");
   if (c.header.data == "ascii")
     readAscii(p, c, rest);
   else if (c.header.data == "binary")
