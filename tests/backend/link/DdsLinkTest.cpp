@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <thread>
 
 #include "InstalledConfig.h"
@@ -91,8 +92,14 @@ TEST(DdsLink, CommandsAndTelemetryCrossTheDomainInOrder) {
   RoverThread rover(domain);
   DdsLink link(domain, 1);
   EXPECT_EQ(link.describe(), "DDS domain " + std::to_string(domain) + ", rover 1");
-  // The rover's first state is there for a console that joins late.
-  auto all = collect(link, [](const auto& a) { return !only<BodyState>(a).empty(); });
+  // The rover's first state is there for a console that joins late. Each
+  // message kind is its own topic, matched on its own: the body's state may
+  // come before the legs'.
+  auto all = collect(link, [](const auto& a) {
+    std::set<int> legs;
+    for (const auto& leg : only<LegState>(a)) legs.insert(leg.leg);
+    return !only<BodyState>(a).empty() && legs.size() == std::size_t(gait::kLegCount);
+  });
   ASSERT_FALSE(only<BodyState>(all).empty());
   const double start_y = only<BodyState>(all).back().y_m;
   // The feet carry the rover's weight (force sensors, simulated statics).
