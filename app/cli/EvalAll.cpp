@@ -42,6 +42,8 @@ const Headline kHeadlines[] = {
      nullptr},
     {"sigma calibration (std of error / sigma), locus",
      "/elevation/methods/locus/sigma_calibration", "", nullptr},
+    {"sigma calibration over the truly visible cells, locus",
+     "/elevation/methods/locus/sigma_calibration_visible", "", nullptr},
     {"locus map 20 x 20 m at 5 cm, one core", "/elevation/methods/locus/ms_per_map", "ms", nullptr},
     {"wall time saved by planning while executing (median of 5 comparisons)",
      "/walk/wall_saving_pct/median", "%", "over 30 % (cmu-1990, Task Control)"},

@@ -71,6 +71,7 @@ nlohmann::json scoreJson(const terrain::MapScore& s) {
           {"occluded_known", optionalNumber(s.occludedKnown())},
           {"occluded_known_far", s.occludedKnownFar()},
           {"sigma_calibration", optionalNumber(s.sigmaCalibration())},
+          {"sigma_calibration_visible", optionalNumber(s.sigmaCalibrationVisible())},
           {"known_cells", s.knownCells()}};
 }
 
@@ -173,7 +174,8 @@ constexpr const char* kTableKeys[] = {"rmse_m",
                                       "occluded_known",
                                       "occluded_known_far",
                                       "sigma_calibration",
-                                      "footholds_on_unseen_cells"};
+                                      "footholds_on_unseen_cells",
+                                      "sigma_calibration_visible"};
 
 void printMethods(const std::string& prefix, const nlohmann::json& methods) {
   for (const auto& [name, m] : methods.items())

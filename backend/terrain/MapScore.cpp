@@ -60,9 +60,8 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
       ++known_;
       const double sigma = map.sigma(r, c);
       if (score_sigma && sigma > 0 && std::isfinite(sigma)) {
-        sum_ratio_ += error / sigma;
-        sum_ratio_sq_ += (error / sigma) * (error / sigma);
-        ++ratios_;
+        ratios_.add(error / sigma);
+        if (truth == 0) visible_ratios_.add(error / sigma);
       }
     }
 }
@@ -94,11 +93,17 @@ std::optional<double> MapScore::occludedKnown() const {
   return ratio(double(occluded_known_), occluded_);
 }
 
-std::optional<double> MapScore::sigmaCalibration() const {
-  if (ratios_ < 2) return std::nullopt;
-  const double mean = sum_ratio_ / double(ratios_);
-  const double variance = (sum_ratio_sq_ - double(ratios_) * mean * mean) / double(ratios_ - 1);
+std::optional<double> MapScore::RatioSums::standardDeviation() const {
+  if (n < 2) return std::nullopt;
+  const double mean = sum / double(n);
+  const double variance = (sum_sq - double(n) * mean * mean) / double(n - 1);
   return std::sqrt(std::max(variance, 0.0));
+}
+
+std::optional<double> MapScore::sigmaCalibration() const { return ratios_.standardDeviation(); }
+
+std::optional<double> MapScore::sigmaCalibrationVisible() const {
+  return visible_ratios_.standardDeviation();
 }
 
 }  // namespace ambler::terrain

@@ -41,6 +41,9 @@ class MapScore {
   // Standard deviation of error / sigma over known cells with sigma > 0;
   // 1 when the sigmas are honest.
   std::optional<double> sigmaCalibration() const;
+  // The same over the truly visible cells alone: how honest sigma is where
+  // the height was seen, apart from the occluded cells given a made-up one.
+  std::optional<double> sigmaCalibrationVisible() const;
   long knownCells() const { return known_; }
 
  private:
@@ -50,8 +53,14 @@ class MapScore {
   long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
   long occluded_ = 0, occluded_found_ = 0, shadow_ = 0, shadow_right_ = 0;
   long occluded_known_ = 0, occluded_known_far_ = 0;
-  double sum_ratio_ = 0.0, sum_ratio_sq_ = 0.0;
-  long ratios_ = 0;
+  // Sums of error / sigma: over all known cells, and over the visible ones.
+  struct RatioSums {
+    double sum = 0.0, sum_sq = 0.0;
+    long n = 0;
+    void add(double ratio) { sum += ratio, sum_sq += ratio * ratio, ++n; }
+    std::optional<double> standardDeviation() const;
+  };
+  RatioSums ratios_, visible_ratios_;
 };
 
 }  // namespace ambler::terrain

@@ -2,6 +2,8 @@
 // and scoring against ground truth.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "terrain/Binning.h"
 #include "terrain/MapScore.h"
 #include "terrain/OccludingEdges.h"
@@ -117,6 +119,22 @@ TEST(MapScore, ToleratesOneCellAtShadowBoundariesAndCountsMadeUpCells) {
   // next to it.
   EXPECT_DOUBLE_EQ(*score.occludedKnown(), 0.5);
   EXPECT_EQ(score.occludedKnownFar(), 1);
+}
+
+// A made-up height in a shadow, far off against its sigma, spoils the
+// calibration of all cells but not that of the cells that were seen.
+TEST(MapScore, CalibratesSigmaOverVisibleCellsApart) {
+  ElevationMap map(GridSpec::covering({0, 0, 5, 1}, 1.0));
+  io::FloatImage height(1, 5, 0.0f);
+  io::ByteImage state(1, 5, 0);
+  state(0, 4) = 2;
+  const double errors[] = {1.0, -1.0, 1.0, -1.0, 20.0};  // sigma 1 each
+  for (int c = 0; c < 5; ++c) map.setKnown(0, c, errors[c], 1.0);
+  MapScore score;
+  score.add(map, height, state);
+  // Four visible ratios of +-1: standard deviation sqrt(4 / 3).
+  EXPECT_NEAR(*score.sigmaCalibrationVisible(), std::sqrt(4.0 / 3.0), 1e-12);
+  EXPECT_GT(*score.sigmaCalibration(), 8.0);
 }
 
 }  // namespace
