@@ -95,6 +95,8 @@ struct Bracket {
 // What the range noise does to a cell's height.
 struct HeightNoise {
   double sigma = INFINITY;  // [m]
+  // Height change per range change at the crossing, |dt/drow| / |dDelta/drow|.
+  double height_per_range = 0.0;
   // The slope of Delta across the bracket is significant against the noise.
   bool significant = false;
   // Delta stays within the noise beyond the bracket, or its slope is not
@@ -120,7 +122,31 @@ struct CellResult {
 // The heights of the line over which Delta is within the noise of zero.
 struct Band {
   double top = -INFINITY, bottom = INFINITY;
+  // Least-squares line of Delta over the band's scanlines.
+  double n = 0, sum_row = 0, sum_row2 = 0, sum_delta = 0, sum_row_delta = 0;
+
   double height() const { return top > bottom ? top - bottom : 0.0; }
+  void add(int row, double t, double delta) {
+    top = std::max(top, t), bottom = std::min(bottom, t);
+    n += 1, sum_row += row, sum_row2 += double(row) * row;
+    sum_delta += delta, sum_row_delta += row * delta;
+  }
+  void merge(const Band& o) {
+    top = std::max(top, o.top), bottom = std::min(bottom, o.bottom);
+    n += o.n, sum_row += o.sum_row, sum_row2 += o.sum_row2;
+    sum_delta += o.sum_delta, sum_row_delta += o.sum_row_delta;
+  }
+  // The band's height that noise of `pixel_sigma` explains where Delta
+  // keeps the slope it has across the band: the scanlines over which it
+  // stays within +-3 sigma, times the line's height change per scanline;
+  // 0 when the slope is not significant there (a face runs along the line).
+  double explainedByNoise(double pixel_sigma, double height_per_row) const {
+    if (n < 3) return 0.0;
+    const double spread = sum_row2 - sum_row * sum_row / n;
+    const double slope = (sum_row_delta - sum_row * sum_delta / n) / spread;
+    if (!(std::abs(slope) * std::sqrt(spread) > 3 * pixel_sigma)) return 0.0;
+    return 6 * pixel_sigma / std::abs(slope) * height_per_row;
+  }
 };
 
 // Over the image's columns and half a pixel beyond.
@@ -323,11 +349,16 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   // A line running beside a vertical face stays within the noise of the
   // surface over a long stretch, so Delta may change sign anywhere along it:
   // the surface may be at either end (the face's foot or its top). Noise
-  // alone explains a band of about 6 sigma around a crossing with a
-  // significant slope; beyond that, the cell's height is the band's middle,
-  // give or take half the band.
+  // alone explains a band of 6 pixel sigmas (the band's test) through the
+  // slope of Delta: the crossing's, or the band's own, which more
+  // scanlines measure better where the noise is large (far ground). Beyond
+  // that, the cell's height is the band's middle, give or take half the
+  // band.
   const Band band = followBand(line, down, bracket, result.noise.above, result.noise.below);
-  const double explained = result.noise.significant ? 6 * result.noise.sigma : 0.0;
+  const double pixel_sigma = sensor::rangeSigma(bracket.upper.at.rho, image_.range_sigma_k);
+  const double explained = std::max(
+      result.noise.significant ? 6 * pixel_sigma * result.noise.height_per_range : 0.0,
+      band.explainedByNoise(pixel_sigma, std::abs(bracket.lower.at.t - bracket.upper.at.t)));
   const double excess = band.height() - explained;
   if (excess > 0) {
     result.z = 0.5 * (band.top + band.bottom);
@@ -568,7 +599,8 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, doub
   if (ok[3]) curvature = std::max(curvature, std::abs(range[1] - 2 * range[2] + range[3]));
   const double noise_sigma = noiseOfRange(br.upper.row, br.lower.row, u, col);
   const double range_sigma = std::sqrt(noise_sigma * noise_sigma + curvature * curvature / 64);
-  result.sigma = std::abs((br.lower.at.t - br.upper.at.t) / slope) * range_sigma;
+  result.height_per_range = std::abs((br.lower.at.t - br.upper.at.t) / slope);
+  result.sigma = result.height_per_range * range_sigma;
   result.significant = !insignificant;
   result.ambiguous = insignificant || band_continues;
   return result;
@@ -619,24 +651,23 @@ bool LocusSolver::isSteepFace(int quad_row, int quad_col) const {
 Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
                              const RowSample& below) const {
   const double noise_per_rho2 = 3 * image_.range_sigma_k;
-  Band band;
   // From one end of the bracket, `away` from the other, while Delta has
   // not left the noise on the side away from the bracket. The first step
   // is the neighbour sigmaOfHeight() sampled.
   auto follow = [&](const RowSample& end, const RowSample& neighbour, int step, double away) {
+    Band part;
     double delta = end.delta, rho = end.at.rho, t = end.at.t;
     for (int row = end.row + step;; row += step) {
       const double noise = noise_per_rho2 * rho * rho;
-      if (std::abs(delta) < noise)
-        band.top = std::max(band.top, t), band.bottom = std::min(band.bottom, t);
-      if (!(away * delta < noise) || row < 0 || row >= g_.rows) return;
+      if (std::abs(delta) < noise) part.add(row - step, t, delta);
+      if (!(away * delta < noise) || row < 0 || row >= g_.rows) return part;
       const RowSample next = row == end.row + step ? neighbour : sampleRow(line, row);
-      if (!next.ok) return;
+      if (!next.ok) return part;
       delta = next.delta, rho = next.at.rho, t = next.at.t;
     }
   };
-  follow(br.lower, below, down, 1.0);
-  follow(br.upper, above, -down, -1.0);
+  Band band = follow(br.lower, below, down, 1.0);
+  band.merge(follow(br.upper, above, -down, -1.0));
   return band;
 }
 
