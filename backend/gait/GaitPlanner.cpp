@@ -161,6 +161,16 @@ std::optional<footfall::CostMaps> costMapsAround(
   return footfall::buildCostMaps(map, clipped, legContext(stance, heading, m, leg, scanner), fo);
 }
 
+// Whether `leg`'s foot at `xy` would stand nearer than `separation` to
+// another supporting foot.
+bool crowds(const Stance& stance, int leg, const Eigen::Vector2d& xy, double separation) {
+  for (int j = 0; j < kLegCount; ++j)
+    if (j != leg && stance.supporting[std::size_t(j)] &&
+        (stance.feet[std::size_t(j)].head<2>() - xy).norm() < separation)
+      return true;
+  return false;
+}
+
 // Tries the cheapest cells of leg's composite cost map around `centre`
 // (among equals, nearest it) until one keeps every constraint and leaves a
 // body move after which a leg can lift.
@@ -200,6 +210,10 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     if ((xy - stance.feet[std::size_t(leg)].head<2>()).norm() < ctx.gait.pitch_m / 4) continue;
     // Keep the tread: the stance's CSP depends on it more than on the pitch.
     if (std::abs((xy - centre).dot(lateral)) > ctx.gait.tread_tolerance_m * widen) continue;
+    // A foot set down at the bare separation from another ends within it
+    // after the few millimetres of a touch-down error, and then no stance
+    // holding both passes the check until one of them lifts.
+    if (crowds(stance, leg, xy, m.min_leg_separation_m + ctx.gait.execution_slack_m)) continue;
     const double z = soleHeight(map, xy, 0.5 * m.foot_diameter_m);
     if (!std::isfinite(z)) continue;
     Stance placed = stance;

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 
+#include "core/Region.h"
 #include "core/Resources.h"
 #include "footfall/FootfallConfig.h"
 #include "gait/GaitPlanner.h"
@@ -251,6 +252,38 @@ TEST(GaitPlanner, ShufflesAFootBackSoThatATrailingLegMayLift) {
     next = p.after;
   }
   EXPECT_TRUE(recovered);
+}
+
+// From a traverse walk (seed 7): a rock's shadow ahead of foot 3 left leg 4
+// footholds about the leg separation from foot 3. Set down at the bare
+// separation, a touch-down error of a few millimetres put the feet within
+// it, and no step could be planned from there (neither leg may lift).
+TEST(GaitPlanner, KeepsSlackBetweenANewFootAndItsNeighbours) {
+  const GaitContext ctx = context();
+  auto map = flatGround();
+  forEachCellIn(map.grid(), Box2{1.5, 8.96, 3.0, 9.8},
+                [&](int r, int c) { map.setUnobserved(r, c, terrain::CellState::kShadow); });
+  Stance s;
+  s.body = {{-0.042, 8.293}, 0.0021, 2.4};
+  s.feet = {Eigen::Vector3d(-2.240, 7.558, 0),
+            {-2.253, 8.548, 0},
+            {-2.054, 9.449, 0},
+            {2.058, 8.337, 0},
+            {2.272, 6.368, 0},
+            {2.260, 7.358, 0}};
+  ASSERT_TRUE(checkStance(s, ctx.model, ctx.gait.csp_margin_m).ok());
+
+  const double slack = ctx.model.min_leg_separation_m + ctx.gait.execution_slack_m;
+  for (int step = 0; step < 6; ++step) {
+    const StepPlan plan = planStep(s, Heading{}, map, ctx);
+    ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
+    if (plan.leg >= 0)
+      for (int j = 0; j < kLegCount; ++j)
+        if (j != plan.leg)
+          EXPECT_GE((plan.foothold - s.feet[std::size_t(j)]).head<2>().norm(), slack)
+              << "step " << step << ", leg " << plan.leg << " by leg " << j;
+    s = plan.after;
+  }
 }
 
 TEST(GaitPlanner, NeedsKnownGround) {
