@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "terrain/OccludingEdges.h"
+#include "terrain/Locus.h"
 
 namespace ambler::cli {
 
@@ -48,7 +48,8 @@ void addEvalWalk(CLI::App& eval, Evaluations& all);
 // `eval all`: runs every evaluation in `all`.
 void addEvalAll(CLI::App& eval, std::shared_ptr<const Evaluations> all);
 
-// The occluding-edge options shared by `map` and `eval elevation`.
-void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges);
+// The locus map's options shared by `map` and `eval elevation`: occluding
+// edges and the sample spacing beyond which cells are unknown.
+void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus);
 
 }  // namespace ambler::cli

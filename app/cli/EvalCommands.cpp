@@ -35,8 +35,11 @@ struct EvalElevationArgs {
   std::vector<std::string> poses{"1.5:12", "3:25", "5:30", "6:45"};
   std::string region = "-10,3,10,23";
   double resolution = 0.05;
-  int threads = 1;
-  terrain::OccludingEdgeOptions edges;
+  terrain::LocusOptions locus = [] {
+    terrain::LocusOptions o;
+    o.threads = 1;  // timing on one core
+    return o;
+  }();
   bool json = false;
 };
 
@@ -230,9 +233,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
   std::vector<std::uint64_t> seeds = a.seeds;
   if (seeds.empty() && a.tuning) seeds.assign(sim::kTuningSeeds.begin(), sim::kTuningSeeds.end());
   if (seeds.empty()) seeds.assign(sim::kEvaluationSeeds.begin(), sim::kEvaluationSeeds.end());
-  terrain::LocusOptions options;
-  options.threads = a.threads;
-  options.edges = a.edges;
+  const terrain::LocusOptions& options = a.locus;
   const auto grid = GridSpec::covering(region, a.resolution);
   const auto regions = footholdRegions(region);
   const auto foot = footfall::readFootfallConfig(findResource("config/footfall.json")).foot;
@@ -271,11 +272,12 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"poses", a.poses},
       {"region", a.region},
       {"resolution", a.resolution},
-      {"threads", a.threads},
+      {"threads", a.locus.threads},
       {"shadow_tolerance", "within_1_cell: one cell, 8-neighbourhood"},
       {"truth", "Embree on the terrain triangulated at 2 cm; scans by the project's ray caster"},
-      {"min_grazing_deg", a.edges.min_grazing_deg},
-      {"edge_noise_sigmas", a.edges.noise_sigmas},
+      {"min_grazing_deg", a.locus.edges.min_grazing_deg},
+      {"edge_noise_sigmas", a.locus.edges.noise_sigmas},
+      {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"methods", methodsJson(pooled)},
       {"families", by_family},
       {"elapsed_ms", millisecondsSince(start)}};
@@ -310,10 +312,10 @@ void addEval(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution, "map cell size [m]")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "threads for the locus method (timing)")
+  cmd->add_option("--threads", args->locus.threads, "threads for the locus method (timing)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
-  addEdgeOptions(*cmd, args->edges);
+  addLocusOptions(*cmd, args->locus);
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
   cmd->callback([args] {
     const auto report = evalElevation(*args);

@@ -18,8 +18,7 @@ struct MapArgs {
   double resolution = 0.05;
   std::string out;
   std::string method = "locus";
-  int threads = 0;
-  terrain::OccludingEdgeOptions edges;
+  terrain::LocusOptions locus;
 };
 
 void runMap(const MapArgs& a) {
@@ -31,11 +30,8 @@ void runMap(const MapArgs& a) {
                                 std::to_string(grid.cols) +
                                 " cells is too large; use a coarser --resolution or a smaller "
                                 "--region");
-  terrain::LocusOptions options;
-  options.threads = a.threads;
-  options.edges = a.edges;
   const auto build_start = std::chrono::steady_clock::now();
-  const auto map = a.method == "locus" ? terrain::buildLocusMap(image, grid, options)
+  const auto map = a.method == "locus" ? terrain::buildLocusMap(image, grid, a.locus)
                                        : terrain::buildBinnedMap(image, grid);
   const double build_ms = millisecondsSince(build_start);
   terrain::writeElevationMap(map, a.out);
@@ -53,7 +49,8 @@ void runMap(const MapArgs& a) {
 
 }  // namespace
 
-void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges) {
+void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
+  auto& edges = locus.edges;
   cmd.add_option("--min-grazing", edges.min_grazing_deg,
                  "range jumps steeper than a surface seen at this grazing angle are occluding "
                  "edges [deg]")
@@ -70,6 +67,10 @@ void addEdgeOptions(CLI::App& cmd, terrain::OccludingEdgeOptions& edges) {
   cmd.add_option("--edge-weak-noise", edges.weak_noise_sigmas,
                  "a smaller allowance [std. dev.] for jumps continued by a neighbouring jump")
       ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
+  cmd.add_option("--max-sample-spacing", locus.max_sample_spacing_m,
+                 "cells between samples farther apart on the ground are unknown [m]; inf: off")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
 }
 
@@ -88,10 +89,10 @@ void addMap(CLI::App& app) {
   cmd->add_option("--method", args->method, "locus (krotkov1989 §3) or binning (baseline)")
       ->check(CLI::IsMember({"locus", "binning"}))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "threads for the locus method (0: all cores)")
+  cmd->add_option("--threads", args->locus.threads, "threads for the locus method (0: all cores)")
       ->check(CLI::Range(0, 256))
       ->capture_default_str();
-  addEdgeOptions(*cmd, args->edges);
+  addLocusOptions(*cmd, args->locus);
   cmd->callback([args] { runMap(*args); });
 }
 

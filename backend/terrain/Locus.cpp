@@ -169,7 +169,8 @@ PixelTable rowTable(const sensor::ScanGeometry& g) {
 
 class LocusSolver {
  public:
-  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad);
+  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+              double max_sample_spacing_m);
 
   // Median world height of the image's points (every 4th row and column):
   // where the search of the first cell of each map row starts.
@@ -205,6 +206,10 @@ class LocusSolver {
   bool nearEdge(int quad_row, int quad_col) const {
     return near_edge_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
+  bool isSparse(int quad_row, int quad_col) const {
+    return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
+  }
+  void markSparseQuads(double max_spacing_m);
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
@@ -235,9 +240,12 @@ class LocusSolver {
   double last_col_ = 0.0;  // the image's right border, cols - 0.5
   // Per quad: an edge quad among it and its eight neighbours.
   std::vector<std::uint8_t> near_edge_;
+  // Per quad: its scanlines meet the ground farther apart than the limit.
+  std::vector<std::uint8_t> sparse_;
 };
 
-LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad)
+LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+                         double max_sample_spacing_m)
     : image_(image),
       edges_(edges),
       g_(image.geometry),
@@ -293,6 +301,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
       near_edge_[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
                       across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
     }
+  markSparseQuads(max_sample_spacing_m);
   last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
@@ -509,10 +518,39 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
                                int quad_col) const {
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow, t};
-  if (isSteepFace(quad_row, quad_col)) return {CellState::kUnknown};
+  if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
   return {CellState::kKnown, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
+}
+
+// krotkov1989 §3.2, note 5: far off, a shadow may be no larger than the
+// distance between data points, and the interpolation then spans it as if
+// it were ground. A quad whose scanlines meet the ground farther apart than
+// `max_spacing_m` (horizontally, at either of its columns) is sparse: what
+// lies between its samples is not known. The spacing is the mean step over
+// four scanlines around the quad, less three standard deviations of the
+// range noise in that mean, so that noise does not make dense samples look
+// sparse.
+void LocusSolver::markSparseQuads(double max_spacing_m) {
+  const int quad_rows = g_.rows - 1, quad_cols = g_.cols - 1;
+  sparse_.assign(std::size_t(quad_rows) * quad_cols, 0);
+  if (!std::isfinite(max_spacing_m)) return;
+  std::vector<float> across(world_.size());  // each point's horizontal distance from the sensor
+  for (std::size_t i = 0; i < world_.size(); ++i)
+    across[i] = (world_[i].head<2>() - origin_.head<2>().cast<float>()).norm();
+  auto spacing = [&](int quad_row, int c) {
+    int a = std::max(quad_row - 1, 0), b = std::min(quad_row + 2, g_.rows - 1);
+    auto at = [&](int r) { return double(across[std::size_t(r) * g_.cols + c]); };
+    if (std::isnan(at(a))) a = quad_row;
+    if (std::isnan(at(b))) b = quad_row + 1;
+    const double noise = sensor::rangeSigma(image_.at(quad_row, c), image_.range_sigma_k);
+    return (std::abs(at(b) - at(a)) - 3 * std::sqrt(2.0) * noise) / (b - a);
+  };
+  for (int r = 0; r < quad_rows; ++r)
+    for (int c = 0; c < quad_cols; ++c)
+      sparse_[std::size_t(r) * quad_cols + c] =
+          spacing(r, c) > max_spacing_m || spacing(r, c + 1) > max_spacing_m;
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
@@ -706,7 +744,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
-  const LocusSolver solver(image, edges, epsilon);
+  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 

@@ -15,6 +15,11 @@ struct LocusOptions {
   // 0.04487 m) for 1.4 ms more of a 21 ms map.
   double epsilon_rad = 0.0;
   OccludingEdgeOptions edges;
+  // Cells between samples that meet the ground farther apart than this are
+  // unknown (krotkov1989 §3.2: a shadow far off may be no larger than the
+  // distance between data points). The Ambler's foot is 0.3 m across: a
+  // hole it could step into fits between sparser samples. INFINITY: off.
+  double max_sample_spacing_m = 0.3;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
 };
 

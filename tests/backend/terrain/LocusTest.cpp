@@ -107,6 +107,42 @@ TEST(Locus, CellsOutsideTheFieldOfViewAreUnknown) {
   EXPECT_EQ(map.countOf(CellState::kUnknown), map.grid().cellCount());
 }
 
+// krotkov1989 §3.2, note 5: far from a low sensor the scanlines meet the
+// ground about 0.9 m apart at y = 18 m (1.5 m high, 0.23 deg between
+// scanlines), so a 0.6 m trench there falls between two samples without a
+// range jump, and interpolation would report its floor as ground near 0 m.
+// Its cells must not be known; the near ground, sampled densely, stays so.
+TEST(Locus, GroundBetweenSparseSamplesIsNotKnown) {
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::Trench{{0.0, 18.0, 0.0, 5.0, 0.3}, 1.0});
+  const sim::ProceduralTerrain ground(d);
+  const sim::RayCaster caster(ground);
+  auto m = scanner(0.0);
+  m.mount_height = 1.5;
+  m.tilt = 8 * kDeg;
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 1);
+  const GridSpec grid = GridSpec::covering({-2, 4, 2, 20}, 0.05);
+
+  LocusOptions dense_only;  // the default: 0.3 m
+  LocusOptions everywhere;
+  everywhere.max_sample_spacing_m = INFINITY;
+  const auto map = buildLocusMap(image, grid, dense_only);
+  const auto all = buildLocusMap(image, grid, everywhere);
+  int floor_known_before = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const auto p = grid.cellCenter(r, c);
+      if (std::abs(p.y() - 18.0) < 0.25 && std::abs(p.x()) < 2.0) {
+        EXPECT_FALSE(map.isKnown(r, c)) << p.transpose();
+        floor_known_before += all.isKnown(r, c) && all.elevation(r, c) > -0.5;
+      }
+      // Flat ground within 8 m: scanlines under 0.13 m apart.
+      if (p.y() < 8.0 && all.isKnown(r, c)) EXPECT_TRUE(map.isKnown(r, c)) << p.transpose();
+    }
+  EXPECT_GT(floor_known_before, 100);  // what the interpolation alone made of the trench
+}
+
 // (error / sigma)^2 summed over the known cells of a map of ground at z = 0;
 // sqrt(sum / n) is 1 for honest sigmas.
 struct SquaredRatios {
