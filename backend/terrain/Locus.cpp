@@ -547,10 +547,13 @@ void LocusSolver::markSparseQuads(double max_spacing_m) {
     const double noise = sensor::rangeSigma(image_.at(quad_row, c), image_.range_sigma_k);
     return (std::abs(at(b) - at(a)) - 3 * std::sqrt(2.0) * noise) / (b - a);
   };
-  for (int r = 0; r < quad_rows; ++r)
+  std::vector<std::uint8_t> column_sparse(std::size_t(g_.cols));  // per pixel column of a quad row
+  for (int r = 0; r < quad_rows; ++r) {
+    for (int c = 0; c < g_.cols; ++c) column_sparse[std::size_t(c)] = spacing(r, c) > max_spacing_m;
     for (int c = 0; c < quad_cols; ++c)
       sparse_[std::size_t(r) * quad_cols + c] =
-          spacing(r, c) > max_spacing_m || spacing(r, c + 1) > max_spacing_m;
+          column_sparse[std::size_t(c)] || column_sparse[std::size_t(c) + 1];
+  }
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
