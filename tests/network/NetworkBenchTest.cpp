@@ -414,7 +414,10 @@ TEST_F(NetworkBench, OnlyTheConsoleInCommandMovesTheRoverAndAHandOverMidWalkIsLo
   relay(kFieldRadio);
   auto& sim = rover();
   auto a_opts = key("alice");
-  a_opts.insert(a_opts.end(), {"--steps", "10", "--auto-approve", "--hand-over"});
+  // Alice's walk is far longer than bob's discovery and request take (a
+  // step is about 0.5 s), so the hand-over lands mid-walk however slow the
+  // machine; she stops at the first step boundary after bob asks.
+  a_opts.insert(a_opts.end(), {"--steps", "100", "--auto-approve", "--hand-over"});
   auto& alice = console("ground-a", "alice", a_opts);
   ASSERT_TRUE(alice.waitFor([](const Json& j) { return ackOf(j, "AcquireScan"); },
                             std::chrono::seconds(120)));
@@ -447,7 +450,7 @@ TEST_F(NetworkBench, OnlyTheConsoleInCommandMovesTheRoverAndAHandOverMidWalkIsLo
   EXPECT_EQ(alice.last().value("stopped", ""), "handed over to " + bob_console);
   const int alice_steps = alice.last().value("steps_done", 0);
   EXPECT_GE(alice_steps, 3);
-  EXPECT_LT(alice_steps, 10);
+  EXPECT_LT(alice_steps, 100);
   ASSERT_EQ(bob.wait(std::chrono::seconds(180)), std::optional<int>(0)) << bob.text();
   EXPECT_EQ(bob.last().value("steps_done", 0), 3);
 
