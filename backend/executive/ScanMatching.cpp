@@ -145,6 +145,46 @@ NormalEquations linearise(const std::vector<Point>& points, const terrain::Eleva
   return n;
 }
 
+// The scan's returns on ground no steeper than `max_slope`, judged by the
+// surface across each pixel's neighbours in the image (one-sided at a
+// missing neighbour). The map's cells round a small rock off, and the scan
+// samples only the faces turned towards it: left in, those points pull the
+// scan towards the rocks' middles, along the line of sight.
+std::vector<Point> levelReturns(const sensor::RangeImage& scan, const Eigen::Isometry3d& to_world,
+                                double floor_m, double max_slope) {
+  const int rows = scan.rows(), cols = scan.cols();
+  std::vector<Eigen::Vector3d> world(std::size_t(rows) * cols,
+                                     Eigen::Vector3d::Constant(std::nan("")));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (scan.hasReturn(r, c))
+        world[std::size_t(r) * cols + c] = to_world * scan.pointInSensor(r, c);
+  const auto at = [&](int r, int c) -> const Eigen::Vector3d* {
+    if (r < 0 || c < 0 || r >= rows || c >= cols) return nullptr;
+    const auto& p = world[std::size_t(r) * cols + c];
+    return p.allFinite() ? &p : nullptr;
+  };
+  const auto across = [](const Eigen::Vector3d* before, const Eigen::Vector3d& here,
+                         const Eigen::Vector3d* after) -> std::optional<Eigen::Vector3d> {
+    if (!before && !after) return std::nullopt;
+    return (after ? *after : here) - (before ? *before : here);
+  };
+  std::vector<Point> points;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const Eigen::Vector3d* here = at(r, c);
+      if (!here) continue;
+      const auto down = across(at(r - 1, c), *here, at(r + 1, c));
+      const auto right = across(at(r, c - 1), *here, at(r, c + 1));
+      if (!down || !right) continue;
+      const Eigen::Vector3d normal = down->cross(*right);
+      if (!(normal.head<2>().norm() <= max_slope * std::abs(normal.z()))) continue;
+      const double range = (*here - to_world.translation()).norm();
+      points.push_back({*here, scan.range_sigma_k * range * range + floor_m});
+    }
+  return points;
+}
+
 ScanMatch refuse(ScanMatch m, std::string why) {
   m.accepted = false;
   m.refused = std::move(why);
@@ -173,14 +213,9 @@ ScanMatch matchScanToMap(const sensor::RangeImage& scan, const terrain::Elevatio
   };
   const Eigen::Isometry3d from = prior.transform() * scan.sensor_to_world;
   const Eigen::Vector2d centre = from.translation().head<2>();
-  std::vector<Point> points;
+  const std::vector<Point> points = levelReturns(scan, from, o.point_sigma_floor_m, o.max_slope);
   double reach = 0.0;
-  for (const auto& p : scan.pointsInSensor()) {
-    const double range = p.norm();
-    if (!p.allFinite()) continue;
-    points.push_back({from * p, scan.range_sigma_k * range * range + o.point_sigma_floor_m});
-    reach = std::max(reach, (points.back().world.head<2>() - centre).norm());
-  }
+  for (const auto& p : points) reach = std::max(reach, (p.world.head<2>() - centre).norm());
   Vector4 x = Vector4::Zero();
   NormalEquations n;
   bool converged = false;

@@ -41,10 +41,12 @@ struct ScanMatchOptions {
   int min_points = 1500;
   double point_sigma_floor_m = 0.005;  // added to the scanner's k r^2
   double robust_k = 3.0;               // residuals beyond k sigma are down-weighted (Huber)
-  // Ground steeper than this (a gradient; 0.3 is 17 deg) is left out: a
-  // rock's faces and the shadow edges behind them are where the map, built
-  // from other viewpoints, differs from the new view, and a vertical
-  // residual there pulls the scan sideways.
+  // Ground steeper than this (a gradient; 0.3 is 17 deg), in the map or in
+  // the scan itself, is left out: a rock's faces and the shadow edges behind
+  // them are where the map, built from other viewpoints, differs from the
+  // new view, and a vertical residual there pulls the scan sideways. The
+  // map's cells alone miss a small rock's faces (they round it off); the
+  // scan, sampling only the faces it sees, then pulls towards the rocks.
   double max_slope = 0.3;
   double max_rms_m = 0.05;  // of the residuals the match ended with
   // The match's own standard deviations (from the normal equations): ground
