@@ -5,9 +5,9 @@
 // that needs it (needsAuthority) takes it when no console holds it; after
 // that it changes hands only by an explicit exchange: the new console asks
 // (RequestAuthority), the holder hands over (HandOver naming it). HOLD is
-// accepted from any authenticated console. Authority lapses when the rover
-// holds for a lost link (the holder has gone silent), to a console that
-// asked for it if one did.
+// accepted from any authenticated console. Authority lapses when the holder
+// falls silent for the rover's link timeout (the rover then holds for a
+// lost link, or holds already), to a console that asked for it if one did.
 
 #include <string>
 

@@ -61,16 +61,25 @@ link::Telemetry SimulatedRover::heartbeat(double now_s) {
 }
 
 std::vector<link::Telemetry> SimulatedRover::watchLink(double now_s) {
-  if (options_.link_timeout_s <= 0 || !last_heard_s_ || holding()) return {};
+  if (options_.link_timeout_s <= 0 || !last_heard_s_) return {};
+  // Held already, the rover has nothing to stop; but a holder that falls
+  // silent still loses command authority, or a console that died holding
+  // it (after taking it back with a command late from an outage) would
+  // keep every other console from resuming.
+  if (holding() && !authority_.held()) return {};
   const double silent_s = now_s - *last_heard_s_;
   if (silent_s <= options_.link_timeout_s + 2.0 * delay_s_) return {};
-  std::ostringstream why;
-  why.precision(1);
-  why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
-      << " s";
-  holding_ = why.str();
+  if (!holding()) {
+    std::ostringstream why;
+    why.precision(1);
+    why << std::fixed << "link lost: no command or heartbeat from the ground for " << silent_s
+        << " s";
+    holding_ = why.str();
+  }
   const std::string lost = authority_.held() ? authority_.holder() + " lost command authority" : "";
   const std::string next = authority_.lapse();
+  // A console that had asked now holds authority: its silence counts from now.
+  if (authority_.held()) last_heard_s_ = now_s;
   authority_change_ = lost + (!lost.empty() && !next.empty() ? "; " : "") + next;
   return {heartbeat(now_s)};
 }

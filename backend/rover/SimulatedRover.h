@@ -74,8 +74,9 @@ class SimulatedRover {
   std::vector<link::Telemetry> refuse(const link::Command& command, const std::string& reason,
                                       double now_s) const;
   link::Telemetry heartbeat(double now_s);
-  // The link-loss watchdog: the heartbeat that announces the hold, the
-  // moment the ground has been silent for longer than the timeout.
+  // The link-loss watchdog: the heartbeat that announces the hold (or,
+  // already holding, the loss of command authority), the moment the ground
+  // has been silent for longer than the timeout.
   std::vector<link::Telemetry> watchLink(double now_s);
   bool holding() const { return !holding_.empty(); }
   const link::CommandAuthority& authority() const { return authority_; }

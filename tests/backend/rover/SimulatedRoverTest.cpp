@@ -231,6 +231,40 @@ TEST(SimulatedRover, OnlyTheConsoleInCommandMovesTheRoverAndAnyConsoleMayHoldIt)
   EXPECT_FALSE(ackOf(rover.handle(command(link::Resume{}, &a), t + 4.5)).accepted);
 }
 
+// After an outage a console's late command takes authority back while the
+// rover holds; if that console then dies, the silence must hand authority
+// on, or no other console could ever resume.
+TEST(SimulatedRover, AConsoleFallingSilentWhileTheRoverHoldsLosesCommandAuthority) {
+  auto o = options();
+  o.operators.push_back({"bob", std::vector<std::uint8_t>(32, 8)});
+  o.link_timeout_s = 3.0;
+  SimulatedRover rover(simulator(), o);
+  link::CommandSigner a(alice()), b(o.operators[1], 1, {.validity_s = 60.0});
+  const double t = link::utcNowS();
+  ASSERT_TRUE(ackOf(rover.handle(command(link::BodyMove{0, 0.2, 0, 0}, &a), t)).accepted);
+  ASSERT_TRUE(heartbeatOf(rover.watchLink(t + 3.2)).holding);
+  EXPECT_EQ(rover.takeAuthorityChange(), a.console() + " lost command authority");
+
+  // Alice's scan, sent before she heard of the hold, arrives late.
+  ASSERT_TRUE(ackOf(rover.handle(command(link::AcquireScan{}, &a), t + 3.4)).accepted);
+  EXPECT_EQ(rover.authority().holder(), a.console());
+  ASSERT_TRUE(ackOf(rover.handle(command(link::RequestAuthority{}, &b), t + 3.5)).accepted);
+  EXPECT_FALSE(ackOf(rover.handle(command(link::Resume{}, &b), t + 3.6)).accepted);
+
+  // Alice is gone: once she has been silent for the timeout (and twice the
+  // link's delay), bob, who asked, holds authority; the rover still holds.
+  EXPECT_TRUE(rover.watchLink(t + 5.0).empty());
+  const auto lapsed = rover.watchLink(t + 30.0);
+  ASSERT_EQ(lapsed.size(), 1u);
+  EXPECT_TRUE(heartbeatOf(lapsed).holding);
+  EXPECT_EQ(heartbeatOf(lapsed).authority, b.console());
+  EXPECT_EQ(rover.takeAuthorityChange(), a.console() + " lost command authority; " + b.console() +
+                                             " took command authority (it had asked)");
+  EXPECT_TRUE(rover.watchLink(t + 31.0).empty());  // announced once
+  const auto resumed = rover.handle(command(link::Resume{}, &b), t + 31.0);
+  EXPECT_TRUE(ackOf(resumed).accepted) << ackOf(resumed).reason;
+}
+
 TEST(SimulatedRover, AcquireScanSendsARangeImageFromWhereTheRoverIs) {
   SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
