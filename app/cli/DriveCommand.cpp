@@ -74,6 +74,7 @@ class ConsoleLink : public link::Link {
   std::size_t unanswered() const { return unanswered_.size(); }
   // The rover time of its newest heartbeat.
   double lastHeartbeatS() const { return last_heartbeat_s_; }
+  bool heardHeartbeat() const { return last_heartbeat_s_ > kNever; }
   const std::string& holder() const { return holder_; }
   const std::string& request() const { return request_; }
 
@@ -121,7 +122,8 @@ class ConsoleLink : public link::Link {
   std::map<std::uint64_t, std::string> unanswered_;
   std::vector<double> latencies_s_;
   long sent_ = 0, acks_ = 0, refused_ = 0, others_acks_ = 0;
-  double last_heartbeat_s_ = -1e300;
+  static constexpr double kNever = -1e300;
+  double last_heartbeat_s_ = kNever;
 };
 
 // Everything a console has: its mission log, the DDS link recorded into
@@ -177,6 +179,22 @@ bool takeOver(Console& c, link::CommandSigner& signer, const DriveArgs& a, doubl
     c.link.receive(std::chrono::milliseconds(50));
   }
   return true;
+}
+
+// A console resuming may find command authority with another console: the
+// one it replaces, which took it back with a command late from the outage
+// and then stopped (its silence hands authority on to a console that asked),
+// or one still in command (which has to hand over). It asks and waits, as a
+// take-over does; false on the timeout.
+bool authorityToResume(Console& c, link::CommandSigner& signer, const DriveArgs& a,
+                       double start_s) {
+  const double until_s = link::utcNowS() + a.discovery_wait_s;
+  while (!c.link.heardHeartbeat() && link::utcNowS() < until_s)
+    c.link.receive(std::chrono::milliseconds(50));
+  const std::string holder = c.link.holder();
+  if (holder.empty() || holder == signer.console()) return true;
+  printLine({{"event", holder + " holds command authority"}, {"t_s", link::utcNowS() - start_s}});
+  return takeOver(c, signer, a, start_s);
 }
 
 // Why the walk stops, or empty while it goes on.
@@ -309,7 +327,8 @@ int drive(const DriveArgs& a) {
     printLine(summary);
     return 0;
   }
-  if (a.take_over && !takeOver(c, *signer, a, start_s)) {
+  if ((a.take_over && !takeOver(c, *signer, a, start_s)) ||
+      (a.resume && !authorityToResume(c, *signer, a, start_s))) {
     printLine({{"stopped", "no command authority within the timeout"}});
     return 2;
   }
@@ -338,7 +357,8 @@ void addDrive(CLI::App& app) {
                 "release every step that passes its interlocks without asking (required: there "
                 "is no operator here)");
   cmd->add_flag("--resume", args->resume,
-                "end a hold the rover is in (after a Hold or a link loss) before walking");
+                "end a hold the rover is in (after a Hold or a link loss) before walking; when "
+                "another console holds command authority, ask for it and wait first");
   cmd->add_flag("--watch", args->watch,
                 "only watch and record (no key needed) until SIGTERM or the timeout");
   cmd->add_flag("--take-over", args->take_over,

@@ -374,7 +374,9 @@ TEST_P(LongOutage, MidWalkHoldsTheRoverUntilAnExplicitResume) {
   resume_opts.insert(resume_opts.end(),
                      {"--steps", std::to_string(10 - done), "--auto-approve", "--resume"});
   auto& resumed = console("ground-a", "walker", resume_opts);
-  ASSERT_EQ(resumed.wait(std::chrono::seconds(300)), std::optional<int>(0)) << resumed.text();
+  ASSERT_EQ(resumed.wait(std::chrono::seconds(300)), std::optional<int>(0))
+      << resumed.text() << "\nrover:\n"
+      << sim.text();
   EXPECT_EQ(resumed.last().value("steps_done", 0), 10 - done);
   EXPECT_EQ(resumed.last().value("unanswered", -1), 0);
   std::this_thread::sleep_for(std::chrono::seconds(1));
