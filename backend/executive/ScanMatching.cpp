@@ -179,7 +179,7 @@ std::vector<Point> levelReturns(const sensor::RangeImage& scan, const Eigen::Iso
       if (!down || !right) continue;
       const Eigen::Vector3d normal = down->cross(*right);
       if (!(normal.head<2>().norm() <= max_slope * std::abs(normal.z()))) continue;
-      const double range = (*here - to_world.translation()).norm();
+      const double range = scan.at(r, c);
       points.push_back({*here, scan.range_sigma_k * range * range + floor_m});
     }
   return points;
