@@ -50,8 +50,8 @@ InterlockCheck stability(const gait::StepPlan& plan, const gait::Stance& from,
   auto consider = [&](double value, const std::string& phase) {
     if (value < lowest) lowest = value, when = phase;
   };
-  const auto placed = gait::checkStance(plan.after_leg, m, margin);
-  const auto moved = gait::checkStance(plan.after, m, margin);
+  const auto placed = gait::checkStance(plan.after_leg, from, m, margin);
+  const auto moved = gait::checkStance(plan.after, from, m, margin);
   if (plan.leg >= 0) {
     consider(gait::marginWithout(from, m, plan.leg), "while the leg is lifted");
     consider(placed.csp_margin_m, "after the foot is placed");

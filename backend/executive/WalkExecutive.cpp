@@ -511,7 +511,7 @@ void WalkExecutive::sendNext(double now_s) {
 void WalkExecutive::afterMove(double now_s) {
   move_acked_at_s_.reset();
   const auto& m = ctx_.model;
-  const double margin = gait::checkStance(*reported_, m, 0.0).csp_margin_m;
+  const double margin = gait::marginWithout(*reported_, m, -1);
   if (margin < 0) {
     suspend(now_s, "centre of gravity " + metres(-margin) + " outside the support polygon", true);
     return;

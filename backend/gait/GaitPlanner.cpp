@@ -221,10 +221,10 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     // Widened searches step over obstacles, so they may stretch the stack.
     const double span = ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0);
     if (stackSpan(placed, m, leg, d) > span) continue;
-    if (!checkStance(placed, m, ctx.gait.csp_margin_m).ok()) continue;
+    if (!checkStance(placed, stance, m, ctx.gait.csp_margin_m).ok()) continue;
     Stance raised = placed;
     raised.body.link_z = linkHeightFor(placed, m);
-    if (!checkStance(raised, m, ctx.gait.csp_margin_m).ok()) continue;
+    if (!checkStance(raised, stance, m, ctx.gait.csp_margin_m).ok()) continue;
     const FreeMove next = bodyMoveKeepingALegFree(raised, heading, ctx);
     // A placement that frees no advance is still worth it when it lets the
     // leg that blocks the body lift next (a shuffle step).
@@ -395,7 +395,7 @@ std::optional<Stance> shiftToFreeALeg(const Stance& stance, const Heading& headi
   // A foot reported beyond its leg's reach is brought back by moving toward
   // it: on the way, the reach may be exceeded, but less and less.
   auto passable = [&, excess = reachExcess(stance, m)](const Stance& s, double& left) {
-    const StanceCheck c = checkStance(s, m, g.csp_margin_m);
+    const StanceCheck c = checkStance(s, stance, m, g.csp_margin_m);
     if (c.ok()) return true;
     const double now = reachExcess(s, m);
     if (c.violated != Constraint::kKinematic || !(now < left) || now >= excess) return false;
@@ -453,8 +453,8 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
       plan.after = *shifted;
       plan.body_path = {stance.body, shifted->body};
       plan.reason = "body shifted to free a leg";
-      plan.min_csp_margin = std::min(checkStance(stance, m, 0.0).csp_margin_m,
-                                     checkStance(*shifted, m, 0.0).csp_margin_m);
+      plan.min_csp_margin = std::min(checkStance(stance, stance, m, 0.0).csp_margin_m,
+                                     checkStance(*shifted, stance, m, 0.0).csp_margin_m);
       plan.ok = true;
       return plan;
     }
@@ -466,8 +466,8 @@ StepPlan planStep(const Stance& stance, const Heading& heading, const terrain::E
   plan.after = moveBody(placed, heading, plan.body_u);
   plan.body_path = bodyPath(placed, heading, plan.body_u, ctx.gait.body_step_m);
   plan.reason = "body stopped by " + constraintName(stopped);
-  const double margin_after = checkStance(plan.after, m, 0.0).csp_margin_m;
-  const double margin_placed = checkStance(placed, m, 0.0).csp_margin_m;
+  const double margin_after = checkStance(plan.after, stance, m, 0.0).csp_margin_m;
+  const double margin_placed = checkStance(placed, stance, m, 0.0).csp_margin_m;
   plan.min_csp_margin = plan.leg < 0 ? std::min(margin_placed, margin_after)
                                      : std::min({plan.min_csp_margin, margin_placed, margin_after});
   plan.ok = true;
@@ -490,7 +490,7 @@ StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
   placed.body.link_z = linkHeightFor(placed, m);
   plan.after_leg = plan.after = placed;
   plan.min_csp_margin =
-      std::min(marginWithout(stance, m, leg), checkStance(placed, m, 0.0).csp_margin_m);
+      std::min(marginWithout(stance, m, leg), checkStance(placed, stance, m, 0.0).csp_margin_m);
   plan.recovery = planLegRecovery(m, stance, leg, plan.foothold, clearanceFrom(map), ctx.recovery);
   plan.leg_costs = legCostMaps(stance, heading, map, ctx, std::nullopt, leg);
   plan.body_path = {placed.body};
@@ -502,7 +502,8 @@ StepPlan planStepWithFoothold(const Stance& stance, const Heading& heading,
   plan.body_u = std::max(move.u, 0.0);
   plan.after = moveBody(placed, heading, plan.body_u);
   plan.body_path = bodyPath(placed, heading, plan.body_u, ctx.gait.body_step_m);
-  plan.min_csp_margin = std::min(plan.min_csp_margin, checkStance(plan.after, m, 0.0).csp_margin_m);
+  plan.min_csp_margin =
+      std::min(plan.min_csp_margin, checkStance(plan.after, stance, m, 0.0).csp_margin_m);
   plan.reason = move.u < 0 ? "no leg could lift after any body move"
                            : "body stopped by " + constraintName(move.stopped_by);
   plan.ok = true;
@@ -521,9 +522,9 @@ std::optional<StepPlan> reanchorStep(const StepPlan& plan, const Stance& planned
   moved.foothold.z() = plan.foothold.z();
   Stance placed = actual;
   placed.feet[std::size_t(plan.leg)] = moved.foothold;
-  if (!checkStance(placed, m, margin).ok()) return std::nullopt;
+  if (!checkStance(placed, actual, m, margin).ok()) return std::nullopt;
   placed.body.link_z = plan.after_leg.body.link_z;
-  if (!checkStance(placed, m, margin).ok()) return std::nullopt;
+  if (!checkStance(placed, actual, m, margin).ok()) return std::nullopt;
   // The body move is derived again on the real stance, so that the leg due
   // next can still lift after it (it may come out a little shorter).
   const FreeMove body = bodyMoveKeepingALegFree(placed, heading, ctx);

@@ -70,7 +70,12 @@ std::vector<Eigen::Vector2d> Stance::supportingFeet(int except) const {
   return out;
 }
 
-StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin) {
+namespace {
+
+// `settled(i, j)`: feet i and j need not keep the leg separation.
+template <typename Settled>
+StanceCheck check(const Stance& stance, const RoverModel& model, double csp_margin,
+                  Settled settled) {
   StanceCheck check;
   const Eigen::Matrix2d to_body = stance.body.rotation().transpose();  // once: sin/cos are dear
   for (int i = 0; i < kLegCount; ++i) {
@@ -84,7 +89,7 @@ StanceCheck checkStance(const Stance& stance, const RoverModel& model, double cs
     for (const auto& shaft : model.shafts)
       if ((f - shaft).norm() < model.shaft_clearance_m) return {Constraint::kLegBody, i};
     for (int j = i + 1; j < kLegCount; ++j)
-      if (stance.supporting[std::size_t(j)] &&
+      if (stance.supporting[std::size_t(j)] && !settled(i, j) &&
           (stance.feet[std::size_t(i)] - stance.feet[std::size_t(j)]).head<2>().norm() <
               model.min_leg_separation_m)
         return {Constraint::kLegLeg, i};
@@ -92,6 +97,21 @@ StanceCheck checkStance(const Stance& stance, const RoverModel& model, double cs
   check.csp_margin_m = conservativeMargin(stance.supportingFeet(), stance.centreOfGravity(model));
   if (check.csp_margin_m < csp_margin) check.violated = Constraint::kConservativeSupport;
   return check;
+}
+
+}  // namespace
+
+StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin) {
+  return check(stance, model, csp_margin, [](int, int) { return false; });
+}
+
+StanceCheck checkStance(const Stance& stance, const Stance& from, const RoverModel& model,
+                        double csp_margin) {
+  const auto stood = [&](int i) {
+    return from.supporting[std::size_t(i)] &&
+           stance.feet[std::size_t(i)] == from.feet[std::size_t(i)];
+  };
+  return check(stance, model, csp_margin, [&](int i, int j) { return stood(i) && stood(j); });
 }
 
 double reachExcess(const Stance& stance, const RoverModel& model) {
@@ -124,7 +144,7 @@ BodyMoveLimit maxBodyMove(const Stance& stance, const Heading& heading, const Ro
   BodyMoveLimit limit;
   for (double u = step;; u += step) {
     const double at = std::min(u, u_max);
-    const StanceCheck c = checkStance(moveBody(stance, heading, at), model, csp_margin);
+    const StanceCheck c = checkStance(moveBody(stance, heading, at), stance, model, csp_margin);
     if (!c.ok()) return {limit.u, c.violated, c.leg};
     limit.u = at;
     if (at >= u_max) return limit;

@@ -76,6 +76,13 @@ struct StanceCheck {
 // of gravity against the conservative support polygon with `csp_margin`.
 StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin);
 
+// As above, for a stance reached from `from`, except that two feet both
+// standing where they stood in `from` need not keep the leg separation:
+// neither moves, so their separation cannot change, and only lifting one of
+// them restores it (after a foot slipped into it).
+StanceCheck checkStance(const Stance& stance, const Stance& from, const RoverModel& model,
+                        double csp_margin);
+
 // How far the supporting feet are beyond their legs' extension and vertical
 // limits, summed (0 within them): a slipped foot can leave one out of reach.
 double reachExcess(const Stance& stance, const RoverModel& model);

@@ -128,6 +128,50 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
+// Two feet a slip left 1 cm within the leg separation stay where they are
+// while another foot is placed: that passes. Setting a foot down within the
+// separation of another fails.
+TEST(Executive, FeetASlipLeftTooCloseMayStandButNoFootIsPlacedTooClose) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const StepProposal& planned = *c.gate.pending();
+  const auto& model = ground().model;
+  gait::Stance from = planned.plan.after;  // where a leg may lift
+  const auto liftable = gait::liftableLegs(from, model, ground().gait.csp_margin_m);
+  ASSERT_FALSE(liftable.empty());
+  const int moving = liftable.front();
+  const int a = moving < 3 ? 3 : 0, b = a + 1;  // two feet of the other side
+  const Eigen::Vector2d apart = (from.feet[std::size_t(a)] - from.feet[std::size_t(b)]).head<2>();
+  from.feet[std::size_t(a)].head<2>() = from.feet[std::size_t(b)].head<2>() +
+                                        (model.min_leg_separation_m - 0.01) * apart.normalized();
+  ASSERT_EQ(gait::checkStance(from, model, 0.0).violated, gait::Constraint::kLegLeg);
+
+  // The moving leg lifted and set down where it stood.
+  gait::StepPlan step = planned.plan;
+  step.leg = moving;
+  step.foothold = from.feet[std::size_t(moving)];
+  step.after_leg = step.after = from;
+  step.body_path = {from.body};
+  const auto stood = makeProposal(1, from, step, c.executive.map(), ground());
+  ASSERT_EQ(stood.interlocks.checks[3].name, "stability");
+  EXPECT_TRUE(stood.interlocks.checks[3].passed) << stood.interlocks.checks[3].detail;
+
+  // ... or set down 1 cm within the separation of its neighbour.
+  const int neighbour = moving % 3 == 0 ? moving + 1 : moving - 1;
+  const Eigen::Vector3d& by = from.feet[std::size_t(neighbour)];
+  gait::StepPlan crowding = step;
+  crowding.foothold.head<2>() = by.head<2>() + (model.min_leg_separation_m - 0.01) *
+                                                   (step.foothold - by).head<2>().normalized();
+  crowding.after_leg.feet[std::size_t(moving)] = crowding.foothold;
+  crowding.after.feet[std::size_t(moving)] = crowding.foothold;
+  const auto refused = makeProposal(2, from, crowding, c.executive.map(), ground());
+  EXPECT_FALSE(refused.interlocks.checks[3].passed);
+  EXPECT_NE(refused.interlocks.checks[3].detail.find("leg-leg after the foot is placed"),
+            std::string::npos)
+      << refused.interlocks.checks[3].detail;
+}
+
 // What the log keeps of a proposal comes back as the replay shows it, with
 // a failed interlock's figures; a damaged record is named, not guessed at.
 TEST(Executive, AProposalRecordComesBackFromTheLog) {

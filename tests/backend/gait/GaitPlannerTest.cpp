@@ -277,13 +277,52 @@ TEST(GaitPlanner, KeepsSlackBetweenANewFootAndItsNeighbours) {
   for (int step = 0; step < 6; ++step) {
     const StepPlan plan = planStep(s, Heading{}, map, ctx);
     ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
-    if (plan.leg >= 0)
-      for (int j = 0; j < kLegCount; ++j)
-        if (j != plan.leg)
-          EXPECT_GE((plan.foothold - s.feet[std::size_t(j)]).head<2>().norm(), slack)
-              << "step " << step << ", leg " << plan.leg << " by leg " << j;
+    if (plan.leg >= 0) {
+      for (int j = 0; j < kLegCount; ++j) {
+        if (j == plan.leg) continue;
+        EXPECT_GE((plan.foothold - s.feet[std::size_t(j)]).head<2>().norm(), slack)
+            << "step " << step << ", leg " << plan.leg << " by leg " << j;
+      }
+    }
     s = plan.after;
   }
+}
+
+// From a rock-field walk (seed 3): foot 4 slipped 5 cm towards foot 3 as it
+// was set down, to 0.59 m from it. Both may stay where they are (neither
+// moves, so their separation cannot shrink), but every other step must still
+// be planned, and the walk goes on until one of them lifts.
+TEST(GaitPlanner, WalksOnWhenASlipLeftTwoFeetWithinTheLegSeparation) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Stance s;
+  s.body = {{-0.331, 24.316}, 0.0258, 2.4};
+  s.feet = {Eigen::Vector3d(-2.479, 22.994, 0),
+            {-2.500, 23.818, 0},
+            {-2.370, 22.101, 0},
+            {1.967, 25.412, 0},
+            {1.835, 25.997, 0},
+            {2.001, 24.512, 0}};
+  ASSERT_EQ(checkStance(s, ctx.model, 0.0).violated, Constraint::kLegLeg);
+  ASSERT_TRUE(checkStance(s, s, ctx.model, ctx.gait.csp_margin_m).ok());
+
+  const double slack = ctx.model.min_leg_separation_m + ctx.gait.execution_slack_m;
+  bool lifted_one_of_them = false;
+  for (int step = 0; step < 8 && !lifted_one_of_them; ++step) {
+    const StepPlan plan = planStep(s, Heading{}, map, ctx);
+    ASSERT_TRUE(plan.ok) << "step " << step << ": " << plan.reason;
+    if (plan.leg >= 0) {
+      for (int j = 0; j < kLegCount; ++j) {
+        if (j == plan.leg) continue;
+        EXPECT_GE((plan.foothold - s.feet[std::size_t(j)]).head<2>().norm(), slack)
+            << "step " << step << ", leg " << plan.leg << " by leg " << j;
+      }
+    }
+    lifted_one_of_them = plan.leg == 3 || plan.leg == 4;
+    s = plan.after;
+  }
+  EXPECT_TRUE(lifted_one_of_them);
+  EXPECT_TRUE(checkStance(s, ctx.model, ctx.gait.csp_margin_m).ok());
 }
 
 TEST(GaitPlanner, NeedsKnownGround) {
