@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -147,9 +148,11 @@ NormalEquations linearise(const std::vector<Point>& points, const terrain::Eleva
 
 // The scan's returns on ground no steeper than `max_slope`, judged by the
 // surface across each pixel's neighbours in the image (one-sided at a
-// missing neighbour). The map's cells round a small rock off, and the scan
-// samples only the faces turned towards it: left in, those points pull the
-// scan towards the rocks' middles, along the line of sight.
+// missing neighbour), and with no steep return next to them along the line
+// of sight (the neighbouring rows). The map's cells round a small rock off,
+// and the scan samples only the faces turned towards it: left in, those
+// points, and the flanks just before and behind them, pull the scan towards
+// the rocks' middles, along the line of sight.
 std::vector<Point> levelReturns(const sensor::RangeImage& scan, const Eigen::Isometry3d& to_world,
                                 double floor_m, double max_slope) {
   const int rows = scan.rows(), cols = scan.cols();
@@ -169,7 +172,8 @@ std::vector<Point> levelReturns(const sensor::RangeImage& scan, const Eigen::Iso
     if (!before && !after) return std::nullopt;
     return (after ? *after : here) - (before ? *before : here);
   };
-  std::vector<Point> points;
+  enum class Surface : std::uint8_t { unjudged, level, steep };
+  std::vector<Surface> surface(world.size(), Surface::unjudged);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const Eigen::Vector3d* here = at(r, c);
@@ -178,9 +182,20 @@ std::vector<Point> levelReturns(const sensor::RangeImage& scan, const Eigen::Iso
       const auto right = across(at(r, c - 1), *here, at(r, c + 1));
       if (!down || !right) continue;
       const Eigen::Vector3d normal = down->cross(*right);
-      if (!(normal.head<2>().norm() <= max_slope * std::abs(normal.z()))) continue;
+      surface[std::size_t(r) * cols + c] =
+          normal.head<2>().norm() <= max_slope * std::abs(normal.z()) ? Surface::level
+                                                                      : Surface::steep;
+    }
+  const auto steep = [&](int r, int c) {
+    return r >= 0 && r < rows && surface[std::size_t(r) * cols + c] == Surface::steep;
+  };
+  std::vector<Point> points;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      if (surface[std::size_t(r) * cols + c] != Surface::level) continue;
+      if (steep(r - 1, c) || steep(r + 1, c)) continue;
       const double range = scan.at(r, c);
-      points.push_back({*here, scan.range_sigma_k * range * range + floor_m});
+      points.push_back({*at(r, c), scan.range_sigma_k * range * range + floor_m});
     }
   return points;
 }

@@ -46,7 +46,8 @@ struct ScanMatchOptions {
   // them are where the map, built from other viewpoints, differs from the
   // new view, and a vertical residual there pulls the scan sideways. The
   // map's cells alone miss a small rock's faces (they round it off); the
-  // scan, sampling only the faces it sees, then pulls towards the rocks.
+  // scan, sampling only the faces it sees, then pulls towards the rocks, so
+  // its returns next to a steep one along the line of sight go too.
   double max_slope = 0.3;
   double max_rms_m = 0.05;  // of the residuals the match ended with
   // The match's own standard deviations (from the normal equations): ground

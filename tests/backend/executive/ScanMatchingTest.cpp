@@ -89,8 +89,8 @@ TEST_F(ScanMatchingTest, LevelGroundCannotHoldAScanAndIsRefused) {
 // scan samples their faces sharply, and only the faces turned towards it.
 // Scans taken where the rover truly stands, 0.5 m apart along +y, each
 // matched against the map of the ones before: while the scan's own steep
-// returns counted, the match moved them 1.7 cm forward on average (6.8 mm
-// now; what is left comes from the rocks' gentler flanks).
+// returns counted, the match moved them 1.7 cm forward on average; while
+// their neighbours along the line of sight (the flanks) counted, 6.8 mm.
 TEST(ScanMatching, RocksDoNotPullAScanAlongTheLineOfSight) {
   const sim::ProceduralTerrain field(sim::makeRockField({.seed = 5, .abundance = 0.2}));
   const GridSpec area = GridSpec::covering({-10, -2, 10, 24}, 0.02);
@@ -110,7 +110,7 @@ TEST(ScanMatching, RocksDoNotPullAScanAlongTheLineOfSight) {
     terrain::mergeScan(map, scan);
   }
   ASSERT_GE(matched, 6);
-  EXPECT_LT(std::abs(along / matched), 0.01) << "mean shift along +y of " << matched << " scans";
+  EXPECT_LT(std::abs(along / matched), 0.003) << "mean shift along +y of " << matched << " scans";
 }
 
 TEST_F(ScanMatchingTest, OptionsOutOfRangeAreNamed) {
