@@ -69,6 +69,7 @@ void WalkExecutive::start(double now_s, bool end_hold) {
 void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
   endHold(now_s);
+  early_contacts_ = 0;  // the operator asked for another try
   if (steps_done_ >= opt_.steps) {
     note(now_s, "resumed: the closing scan again");
     requestClosingScan(now_s);
@@ -522,6 +523,14 @@ void WalkExecutive::afterMove(double now_s) {
   if (leg_move) {
     const double short_by = (reported_->feet[std::size_t(plan.leg)] - plan.foothold).norm();
     if (short_by > opt_.early_contact_m) {
+      if (++early_contacts_ >= opt_.max_early_contacts) {
+        suspend(now_s,
+                "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
+                    " from its foothold, early contact " + std::to_string(early_contacts_) +
+                    " times in a row: the map misses what the foot meets",
+                false);
+        return;
+      }
       // The body has not moved: plan the step again from here, no new scan.
       tasks_.suspend(step_task_, now_s, "early contact");
       note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
@@ -551,6 +560,7 @@ void WalkExecutive::afterMove(double now_s) {
 }
 
 void WalkExecutive::finishStep(double now_s) {
+  early_contacts_ = 0;
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;
   step_.reported = report_.stance(ctx_.model)->body;

@@ -41,6 +41,10 @@ struct ExecutiveOptions {
   // off: scan, plan and execute one after the other.
   bool plan_ahead = true;
   double early_contact_m = 0.05;  // a foot this far short of its last waypoint
+  // Early contacts in a row, with no step done between them, after which
+  // the walk suspends: the map misses what the foot meets, and planning
+  // again from the same map meets it again.
+  int max_early_contacts = 3;
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
   // Register each scan against the traverse map and correct the rover's
@@ -201,6 +205,7 @@ class WalkExecutive {
   std::vector<ExecutiveEvent> events_;
   Phase phase_ = Phase::kIdle;
   int steps_done_ = 0, planned_ahead_ = 0;
+  int early_contacts_ = 0;  // in a row, since the last step done
   // The next step, planned during this one from the stance it predicts.
   std::optional<gait::StepPlan> ahead_;
   gait::Stance ahead_from_;

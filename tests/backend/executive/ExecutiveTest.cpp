@@ -288,6 +288,29 @@ rover::SimulatedRoverConfig withoutSlips() {
   return rover;
 }
 
+// Every leg move counts as stopping short here (the rover sets a foot down
+// within millimetres of its foothold): the walk replans twice, then
+// suspends rather than replanning for ever, and resuming tries again.
+TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
+  ExecutiveOptions o = steps(5);
+  o.early_contact_m = 1e-4;
+  o.max_early_contacts = 3;
+  Console c(o, ground(), withoutSlips());
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_NE(c.executive.suspendedBecause().find("early contact 3 times in a row"),
+            std::string::npos)
+      << c.executive.suspendedBecause();
+  EXPECT_EQ(c.link.count("LegMove"), 3);
+  EXPECT_EQ(c.executive.stepsDone(), 1);  // the first step moves the body only
+
+  c.executive.resume(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  EXPECT_EQ(c.link.count("LegMove"), 6);
+}
+
 TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   Console c(steps(3), ground(), withoutSlips());
   c.gate.setMode(ApprovalMode::kAutoApprove);
