@@ -523,6 +523,7 @@ void WalkExecutive::afterMove(double now_s) {
   if (leg_move) {
     const double short_by = (reported_->feet[std::size_t(plan.leg)] - plan.foothold).norm();
     if (short_by > opt_.early_contact_m) {
+      feelGround(reported_->feet[std::size_t(plan.leg)]);
       if (++early_contacts_ >= opt_.max_early_contacts) {
         suspend(now_s,
                 "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
@@ -531,7 +532,7 @@ void WalkExecutive::afterMove(double now_s) {
                 false);
         return;
       }
-      // The body has not moved: plan the step again from here, no new scan.
+      // The body has not moved: plan the step again from here.
       tasks_.suspend(step_task_, now_s, "early contact");
       note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
                       " from its foothold (early contact): replanning");
@@ -557,6 +558,17 @@ void WalkExecutive::afterMove(double now_s) {
   }
   sendNext(now_s);
   if (next_command_ == executing_->commands.size()) planAhead(now_s);
+}
+
+// The sole rests on ground higher than the map says (an early contact):
+// the cell under the foot takes the sole's height, so that the next plan
+// sees what the foot met instead of choosing the same foothold again.
+void WalkExecutive::feelGround(const Eigen::Vector3d& foot) {
+  const auto cell = map_.grid().cellAt(foot.x(), foot.y());
+  if (!cell) return;
+  if (map_.isKnown(cell->row, cell->col) && map_.elevation(cell->row, cell->col) >= foot.z())
+    return;
+  map_.setKnown(cell->row, cell->col, foot.z(), opt_.early_contact_m / 2);
 }
 
 void WalkExecutive::finishStep(double now_s) {

@@ -192,6 +192,7 @@ class WalkExecutive {
   void afterMove(double now_s);
   void finishStep(double now_s);
   void suspend(double now_s, const std::string& why, bool hold);
+  void feelGround(const Eigen::Vector3d& foot);
   void note(double now_s, const std::string& what);
   std::uint64_t send(link::CommandBody body, double now_s);
 

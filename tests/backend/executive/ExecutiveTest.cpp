@@ -289,8 +289,9 @@ rover::SimulatedRoverConfig withoutSlips() {
 }
 
 // Every leg move counts as stopping short here (the rover sets a foot down
-// within millimetres of its foothold): the walk replans twice, then
-// suspends rather than replanning for ever, and resuming tries again.
+// within millimetres of its foothold): the walk replans twice, each time
+// with the ground the foot met in the map, then suspends rather than
+// replanning for ever, and resuming tries again.
 TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
   ExecutiveOptions o = steps(5);
   o.early_contact_m = 1e-4;
@@ -305,6 +306,14 @@ TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
       << c.executive.suspendedBecause();
   EXPECT_EQ(c.link.count("LegMove"), 3);
   EXPECT_EQ(c.executive.stepsDone(), 1);  // the first step moves the body only
+  // The map holds the ground the last foot stopped on at least as high.
+  const int leg = std::stoi(
+      c.executive.suspendedBecause().substr(c.executive.suspendedBecause().find("leg ") + 4));
+  const Eigen::Vector3d foot = c.executive.reported()->feet[std::size_t(leg)];
+  const auto& map = c.executive.map();
+  const auto cell = map.grid().cellAt(foot.x(), foot.y());
+  ASSERT_TRUE(cell && map.isKnown(cell->row, cell->col));
+  EXPECT_GE(map.elevation(cell->row, cell->col), foot.z() - 1e-6);
 
   c.executive.resume(c.now);
   c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
