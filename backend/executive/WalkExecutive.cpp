@@ -521,23 +521,23 @@ void WalkExecutive::afterMove(double now_s) {
   const bool leg_move =
       std::holds_alternative<link::LegMove>(executing_->commands[next_command_ - 1]);
   if (leg_move) {
-    const double short_by = (reported_->feet[std::size_t(plan.leg)] - plan.foothold).norm();
+    const Eigen::Vector3d& foot = reported_->feet[std::size_t(plan.leg)];
+    const double short_by = (foot - plan.foothold).norm();
     if (short_by > opt_.early_contact_m) {
-      feelGround(reported_->feet[std::size_t(plan.leg)]);
+      feelGround(foot);
+      const std::string stopped =
+          "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by);
       if (++early_contacts_ >= opt_.max_early_contacts) {
         suspend(now_s,
-                "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
-                    " from its foothold, early contact " + std::to_string(early_contacts_) +
+                stopped + " from its foothold, early contact " + std::to_string(early_contacts_) +
                     " times in a row: the map misses what the foot meets",
                 false);
         return;
       }
       // The body has not moved: plan the step again from here.
       tasks_.suspend(step_task_, now_s, "early contact");
-      note(now_s, "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
-                      " from its foothold (early contact): replanning");
-      replanned_because_ = "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by) +
-                           " short (early contact), replanned";
+      note(now_s, stopped + " from its foothold (early contact): replanning");
+      replanned_because_ = stopped + " short (early contact), replanned";
       executing_.reset();
       ahead_.reset();
       requestScan(now_s);
