@@ -138,7 +138,9 @@ TEST(Locus, GroundBetweenSparseSamplesIsNotKnown) {
         floor_known_before += all.isKnown(r, c) && all.elevation(r, c) > -0.5;
       }
       // Flat ground within 8 m: scanlines under 0.13 m apart.
-      if (p.y() < 8.0 && all.isKnown(r, c)) EXPECT_TRUE(map.isKnown(r, c)) << p.transpose();
+      if (p.y() < 8.0 && all.isKnown(r, c)) {
+        EXPECT_TRUE(map.isKnown(r, c)) << p.transpose();
+      }
     }
   EXPECT_GT(floor_known_before, 100);  // what the interpolation alone made of the trench
 }
