@@ -277,6 +277,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"truth", "Embree on the terrain triangulated at 2 cm; scans by the project's ray caster"},
       {"min_grazing_deg", a.locus.edges.min_grazing_deg},
       {"edge_noise_sigmas", a.locus.edges.noise_sigmas},
+      {"edge_weak_noise_sigmas", a.locus.edges.weak_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"methods", methodsJson(pooled)},
       {"families", by_family},

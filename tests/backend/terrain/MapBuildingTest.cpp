@@ -58,10 +58,10 @@ TEST(OccludingEdges, HysteresisKeepsWeakJumpsThatContinue) {
     for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * 64 + c] += float(jump);
   for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * 64 + 52] += float(jump);  // alone
 
-  EXPECT_EQ(OccludingEdges(image).edgePixelCount(), 0);  // default: 4 sigma
-  OccludingEdgeOptions hysteresis;
-  hysteresis.weak_noise_sigmas = 2.0;
-  const OccludingEdges edges(image, hysteresis);
+  OccludingEdgeOptions off;
+  off.weak_noise_sigmas = off.noise_sigmas;
+  EXPECT_EQ(OccludingEdges(image, off).edgePixelCount(), 0);
+  const OccludingEdges edges(image);  // default: 4 sigma, or 2 where a jump continues
   for (int c = 26; c <= 38; ++c) EXPECT_TRUE(edges.pixelIsEdge(19, c)) << c;
   EXPECT_FALSE(edges.pixelIsEdge(19, 52));
   EXPECT_FALSE(edges.pixelIsEdge(10, 32));
