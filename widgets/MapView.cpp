@@ -58,6 +58,7 @@ std::optional<std::pair<double, double>> rangeOf(const std::vector<float>& value
 MapView::MapView(QWidget* parent) : QWidget(parent), layer_box_(new QComboBox(this)) {
   layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"), tr("Known / unknown / shadow"),
                         tr("Footfall criterion (roughness)"), tr("Composite cost")});
+  layer_box_->adjustSize();  // no layout sizes it: wide enough for the longest layer's name
   layer_box_->move(kMargin, kMargin);
   layer_box_->setToolTip(tr("Map layer shown"));
   connect(layer_box_, &QComboBox::currentIndexChanged, this, [this](int i) { setShown(Shown(i)); });

@@ -691,6 +691,10 @@ class GroundStationTest : public QObject {
     c.start(1);
     QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
     save(&w, "main-window.png");
+    const auto* layers = c.map.findChild<QComboBox*>();
+    QVERIFY(layers);
+    QVERIFY2(layers->width() >= layers->sizeHint().width(),
+             "the map's layer box cuts its names short");
     save(&c.map, "terrain-map.png");
     save(w.terrainView(), "3d-view.png");
     save(&c.panel, "step-approval.png");
