@@ -14,6 +14,7 @@
 #include "missionlog/ReplayLinks.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/MapView.h"
+#include "widgets/RangeImageView.h"
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TelemetryPanel.h"
@@ -201,6 +202,8 @@ Refusal GroundStation::openSession() {
                 accepted);
           });
   connect(session_.get(), &WalkSession::scanMapped, &mesh_, &MeshController::addWalkScan);
+  connect(session_.get(), &WalkSession::scanMapped, window_.rangeView(),
+          &widgets::RangeImageView::setImage);
   shown_.reset();
   // The switch the operator sees decides, whenever the session was made.
   session_->setAutoApprove(window_.approvalPanel()->autoApproveSwitch()->isChecked());

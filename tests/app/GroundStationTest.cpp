@@ -365,6 +365,12 @@ class GroundStationTest : public QObject {
     auto& mesh = c.station.mesh();
     QTRY_VERIFY_WITH_TIMEOUT(mesh.registeredScans().size() >= 2 && !mesh.registering(), 60000);
     QVERIFY(mesh.lastCorrection().translation().norm() < 0.05);
+    // The Range image tab shows the walk's scans, not only a scan taken by hand.
+    const auto* range = c.station.window().rangeView();
+    bool shows_a_pixel = false;
+    for (int x = 0; x < range->width(); x += 4)
+      shows_a_pixel |= range->pixelAt(QPointF(x, range->height() / 2.0)).has_value();
+    QVERIFY(shows_a_pixel);
   }
 
   void theEventTableAnswersEachCommand() {
