@@ -58,6 +58,13 @@ void RangeImageView::setImage(const sensor::RangeImage& image) {
   update();
 }
 
+void RangeImageView::clear() {
+  image_.reset();
+  colored_ = QImage();
+  setReadout({});
+  update();
+}
+
 QRectF RangeImageView::imageRect() const {
   const QRectF area(kMargin, kMargin, width() - 3 * kMargin - kBarWidth - kBarLabelSpace,
                     height() - 2 * kMargin - kReadoutHeight);

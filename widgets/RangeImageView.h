@@ -18,6 +18,8 @@ class RangeImageView : public QWidget {
   explicit RangeImageView(QWidget* parent = nullptr);
 
   void setImage(const sensor::RangeImage& image);
+  void clear();  // back to "No range image yet"
+  const std::optional<sensor::RangeImage>& image() const { return image_; }
   const QString& readout() const { return readout_; }
   QSize sizeHint() const override { return {520, 420}; }
 

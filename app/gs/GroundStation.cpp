@@ -416,7 +416,9 @@ void GroundStation::showReplayAt(double time_s) {
   if (const auto* m = timeline_->mapAt(time_s)) {
     map_view->setMap(m->map);
     window_.terrainView()->setMap(m->map);
+    window_.rangeView()->setImage(m->scan);
   } else {
+    window_.rangeView()->clear();
     map_view->setMap(terrain::ElevationMap(
         timeline_->maps().empty() ? GridSpec{} : timeline_->maps().front().map.grid()));
     window_.terrainView()->clear();

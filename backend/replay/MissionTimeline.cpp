@@ -168,7 +168,7 @@ MissionTimeline MissionTimeline::build(const std::filesystem::path& log, const P
     if (c != corrections.end())
       image.sensor_to_world = c->second.correction.transform() * image.sensor_to_world;
     if (c == corrections.end() || c->second.merged) terrain::mergeScan(map, image);
-    t.maps_.push_back({scans[std::size_t(i)].time_s, map});
+    t.maps_.push_back({scans[std::size_t(i)].time_s, map, std::move(image)});
     t.marks_.push_back(scans[std::size_t(i)].time_s);
   }
   if (progress) progress(total, total);

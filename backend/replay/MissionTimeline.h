@@ -19,6 +19,7 @@
 #include "executive/TaskTree.h"
 #include "gait/RoverModel.h"
 #include "replay/CommandTable.h"
+#include "sensor/RangeImage.h"
 #include "terrain/ElevationMap.h"
 
 namespace ambler::replay {
@@ -27,6 +28,7 @@ namespace ambler::replay {
 struct MapAfterScan {
   double time_s = 0.0;  // when the range image arrived
   terrain::ElevationMap map;
+  sensor::RangeImage scan;  // placed by the correction logged for it
 };
 
 // done of total scans mapped; return false to stop building.

@@ -420,6 +420,8 @@ class GroundStationTest : public QObject {
     QVERIFY(!c.station.window().walkAction()->isEnabled());  // a replay commands nothing
     auto* bar = c.station.window().timeline();
     QCOMPARE(c.map.map()->knownCount(), 0);  // the start: before the first scan
+    const auto* range = c.station.window().rangeView();
+    QVERIFY(!range->image());  // nor the live walk's last scan
     // Nor does the 3-D view keep the live walk's terrain then.
     QTRY_COMPARE(c.station.window().terrainView()->view()->visibleCells(), 0LL);
 
@@ -430,6 +432,10 @@ class GroundStationTest : public QObject {
     bar->slider()->setValue(at_first);
     QVERIFY(bar->time() >= first.time_s && bar->time() < timeline->maps()[1].time_s);
     QCOMPARE(c.map.map()->knownCount(), first.map.knownCount());
+    // The Range image tab shows that scan, where the logged correction put it.
+    QVERIFY(range->image());
+    QVERIFY(range->image()->sensor_to_world.isApprox(first.scan.sensor_to_world));
+    QCOMPARE(range->image()->range, first.scan.range);
     const auto rows_then = c.station.window().commandLog()->rowCount();
     QVERIFY(rows_then > 0);
 
