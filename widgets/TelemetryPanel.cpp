@@ -20,6 +20,14 @@ namespace ambler::widgets {
 
 namespace {
 
+// A value that rounds to zero prints as 0: "-0.000" shows a sign that
+// says nothing about the rover.
+QString fixed(double value, int decimals) {
+  QString text = QString::number(value, 'f', decimals);
+  if (text.startsWith('-') && text.mid(1).toDouble() == 0.0) text.remove(0, 1);
+  return text;
+}
+
 // The TCA modules of cmu-1990 fig. 7 and the tasks each one does.
 struct Lane {
   const char* name;
@@ -188,19 +196,17 @@ void TelemetryPanel::setRover(const std::optional<executive::RoverSample>& rover
   const auto& stance = rover->stance;
   const auto& b = stance.body;
   pose_->setText(tr("Body x %1 m, y %2 m, link plane z %3 m, heading %4°")
-                     .arg(b.xy.x(), 0, 'f', 3)
-                     .arg(b.xy.y(), 0, 'f', 3)
-                     .arg(b.link_z, 0, 'f', 3)
-                     .arg(b.heading_rad * 180.0 / M_PI, 0, 'f', 1));
+                     .arg(fixed(b.xy.x(), 3), fixed(b.xy.y(), 3), fixed(b.link_z, 3),
+                          fixed(b.heading_rad * 180.0 / M_PI, 1)));
   for (int r = 0; r < gait::kLegCount; ++r) {
     const auto& f = stance.feet[std::size_t(r)];
     const bool contact = stance.supporting[std::size_t(r)];
     const QStringList cells = {QString::number(r),
                                contact ? tr("yes") : tr("no"),
                                QString::number(rover->force_n[std::size_t(r)] / 1000.0, 'f', 2),
-                               QString::number(f.x(), 'f', 3),
-                               QString::number(f.y(), 'f', 3),
-                               QString::number(f.z(), 'f', 3)};
+                               fixed(f.x(), 3),
+                               fixed(f.y(), 3),
+                               fixed(f.z(), 3)};
     for (int c = 0; c < cells.size(); ++c) {
       auto* item = new QTableWidgetItem(cells[c]);
       if (c == 1 && !contact) item->setForeground(QColor(183, 28, 28));

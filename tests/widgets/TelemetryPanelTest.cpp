@@ -3,8 +3,10 @@
 #include <QApplication>
 #include <QChart>
 #include <QChartView>
+#include <QLabel>
 #include <QLineSeries>
 #include <QTabWidget>
+#include <QTableWidget>
 #include <QValueAxis>
 #include <QtTest/QtTest>
 #include <vector>
@@ -104,6 +106,24 @@ class TelemetryPanelTest : public QObject {
     auto* x = qobject_cast<QValueAxis*>(panel.feetView()->chart()->axes(Qt::Horizontal).front());
     QCOMPARE(x->max(), 1.0);
     QCOMPARE(x->labelFormat(), QString("%.1f"));
+  }
+
+  // A body or foot a hair below zero reads 0, not -0.000.
+  void valuesThatRoundToZeroHaveNoSign() {
+    TelemetryPanel panel;
+    ambler::executive::RoverSample rover;
+    rover.stance.body.xy = {-2e-5, 0.5};
+    rover.stance.body.heading_rad = -1e-4;
+    rover.stance.feet[0] = {-0.0004, -1.25, -0.05};
+    panel.setRover(rover);
+    QString pose;
+    for (const auto* label : panel.findChildren<QLabel*>())
+      if (label->text().startsWith("Body x")) pose = label->text();
+    QCOMPARE(pose, QString("Body x 0.000 m, y 0.500 m, link plane z 2.400 m, heading 0.0°"));
+    auto* legs = panel.findChild<QTableWidget*>();
+    QVERIFY(legs);
+    QCOMPARE(legs->item(0, 3)->text(), QString("0.000"));
+    QCOMPARE(legs->item(0, 4)->text(), QString("-1.250"));
   }
 };
 
