@@ -77,6 +77,16 @@ double RoverSim::soleClearanceNeeded(const Eigen::Vector2d& xy) const {
   return groundUnderFoot(terrain_, xy, 0.5 * model_.foot_diameter_m);
 }
 
+// A sole slides over the ground, so it cannot climb a wall: where the
+// ground at `to` rises above it by more than the slide's length (steeper
+// than 45 deg), the sole stays where it stood.
+bool RoverSim::slideSole(Eigen::Vector3d& sole, const Eigen::Vector2d& to) const {
+  const double ground = soleClearanceNeeded(to);
+  if (ground - sole.z() > (to - sole.head<2>()).norm()) return false;
+  sole << to, ground;
+  return true;
+}
+
 void RoverSim::record(double* min_margin, int lifted) {
   SupportSample s{truth_.supportingFeet(lifted), truth_.centreOfGravity(model_)};
   const double m =
@@ -180,10 +190,8 @@ void RoverSim::creep(double distance_m) {
   const double twist = noise_.ground_creep_rad * distance_m * unit(rng_);
   const Eigen::Rotation2Dd turn(twist);
   const Eigen::Vector2d centre = truth_.body.xy;
-  for (auto& foot : truth_.feet) {
-    foot.head<2>() = centre + shift + turn * (Eigen::Vector2d(foot.head<2>()) - centre);
-    foot.z() = soleClearanceNeeded(foot.head<2>());
-  }
+  for (auto& foot : truth_.feet)
+    (void)slideSole(foot, centre + shift + turn * (Eigen::Vector2d(foot.head<2>()) - centre));
   truth_.body.xy = centre + shift;
   truth_.body.heading_rad += twist;
 }
@@ -220,9 +228,8 @@ MoveReport RoverSim::executeBody(const BodyMove& move) {
   for (auto& foot : truth_.feet) {
     if (chance(rng_) >= noise_.slip_probability) continue;
     const double a = angle(rng_);
-    foot.head<2>() += noise_.slip_m * Eigen::Vector2d(std::cos(a), std::sin(a));
-    foot.z() = soleClearanceNeeded(foot.head<2>());
-    ++slips_;
+    if (slideSole(foot, foot.head<2>() + noise_.slip_m * Eigen::Vector2d(std::cos(a), std::sin(a))))
+      ++slips_;
   }
   return report;
 }

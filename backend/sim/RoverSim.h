@@ -91,6 +91,7 @@ class RoverSim {
 
  private:
   double soleClearanceNeeded(const Eigen::Vector2d& xy) const;
+  [[nodiscard]] bool slideSole(Eigen::Vector3d& sole, const Eigen::Vector2d& to) const;
   void record(double* min_margin, int lifted = -1);
   void creep(double distance_m);
 

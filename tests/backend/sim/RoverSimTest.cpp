@@ -118,6 +118,41 @@ TEST(RoverSim, SlipsMoveFeetAndEncodersReportTheTruth) {
   }
 }
 
+// A wall 1.6 m high all round, with a pit under each foot just wider than
+// the sole: every slip and creep would carry the sole onto the wall.
+class PitsInAWall : public Terrain {
+ public:
+  PitsInAWall(const gait::Stance& s, double radius) : stance_(s), radius_(radius) {}
+  double height(double x, double y) const override {
+    for (const auto& f : stance_.feet)
+      if ((f.head<2>() - Eigen::Vector2d(x, y)).norm() <= radius_) return 0.0;
+    return 1.6;
+  }
+  double maxHeightIn(const Box2&) const override { return 1.6; }
+  Box2 extent() const override { return {-50, -50, 50, 50}; }
+
+ private:
+  gait::Stance stance_;
+  double radius_;
+};
+
+TEST(RoverSim, ASlidingSoleDoesNotClimbAWall) {
+  const BlockGround flat;
+  const gait::RoverModel m;
+  const gait::Stance s = start(flat, m);
+  const PitsInAWall pits(s, 0.5 * m.foot_diameter_m + 0.01);
+  ExecutionNoise n = noNoise();
+  n.slip_probability = 1.0;
+  n.slip_m = 0.05;
+  n.ground_creep_m = 0.1;
+  RoverSim rover(pits, m, n, s);
+  rover.executeBody({{0.0, 0.2}, 0.0, 0.0});
+  EXPECT_EQ(rover.slips(), 0) << "no slip onto the wall";
+  for (int i = 0; i < gait::kLegCount; ++i)
+    EXPECT_NEAR((rover.truth().feet[std::size_t(i)] - s.feet[std::size_t(i)]).norm(), 0.0, 1e-9)
+        << "foot " << i;
+}
+
 TEST(RoverSim, RefusesMalformedCommands) {
   const BlockGround ground;
   const gait::RoverModel m;
