@@ -256,6 +256,7 @@ void WalkExecutive::mapScan(const sensor::RangeImage& scan, double now_s) {
   sensor::RangeImage placed = scan;
   placed.sensor_to_world = correction().transform() * scan.sensor_to_world;
   const GridSpec window = merge ? terrain::mergeScan(map_, placed) : GridSpec{};
+  for (const auto& foot : felt_) holdFeltGround(foot);
   scanner_ = scan.geometry;
   work_.mapping_s += secondsSince(t0);
   if (scan_of_step_) {
@@ -502,10 +503,25 @@ void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
 void WalkExecutive::sendNext(double now_s) {
   tasks_.start(command_tasks_[next_command_], now_s);
   move_acked_at_s_.reset();
+  if (auto* move = std::get_if<link::LegMove>(&executing_->commands[next_command_]))
+    liftFromWhereItStands(*move);
   awaiting_ = send(executing_->commands[next_command_], now_s);
   awaiting_what_ = link::typeName(executing_->commands[next_command_]);
   sent_s_ = now_s;
   ++next_command_;
+}
+
+// Straight up from where the leg stands (cmu-1990 'Real-time control': no
+// horizontal move before lift-off). A step planned ahead lifts from the
+// stance predicted for it, which the moves before missed by their execution
+// error; the sole, beside a rock, would drag across its edge.
+void WalkExecutive::liftFromWhereItStands(link::LegMove& move) const {
+  const auto& leg = report_.legs[std::size_t(move.leg)];
+  if (!leg || move.waypoints.empty()) return;
+  const auto& m = ctx_.model;
+  move.waypoints.front().rotation_rad = leg->joints.rotation_rad;
+  move.waypoints.front().extension_m =
+      std::clamp(leg->joints.extension_m, m.extension_min_m, m.extension_max_m);
 }
 
 // What the rover reports after a move, against the plan.
@@ -562,8 +578,15 @@ void WalkExecutive::afterMove(double now_s) {
 
 // The sole rests on ground higher than the map says (an early contact):
 // the cell under the foot takes the sole's height, so that the next plan
-// sees what the foot met instead of choosing the same foothold again.
+// sees what the foot met instead of choosing the same foothold again. The
+// scans that follow may not see it (under the sole's rim, in a rock's
+// shadow), so every merge keeps the felt ground at least that high.
 void WalkExecutive::feelGround(const Eigen::Vector3d& foot) {
+  felt_.push_back(foot);
+  holdFeltGround(foot);
+}
+
+void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {
   const auto cell = map_.grid().cellAt(foot.x(), foot.y());
   if (!cell) return;
   if (map_.isKnown(cell->row, cell->col) && map_.elevation(cell->row, cell->col) >= foot.z())

@@ -148,6 +148,8 @@ class WalkExecutive {
   const std::optional<gait::Stance>& reported() const { return reported_; }
   const RoverReport& report() const { return report_; }
   const terrain::ElevationMap& map() const { return map_; }
+  // Where soles met ground above the map (early contacts), in the map frame.
+  const std::vector<Eigen::Vector3d>& feltGround() const { return felt_; }
   const std::vector<StepRecord>& stepLog() const { return step_log_; }
   const GroundWork& groundWork() const { return work_; }
   // The command round trip (send to acknowledgement, smoothed over the
@@ -189,10 +191,12 @@ class WalkExecutive {
   std::optional<StepProposal> checkAhead(gait::StepPlan ahead, double now_s);
   void startExecuting(StepProposal proposal, double now_s);
   void sendNext(double now_s);
+  void liftFromWhereItStands(link::LegMove& move) const;
   void afterMove(double now_s);
   void finishStep(double now_s);
   void suspend(double now_s, const std::string& why, bool hold);
   void feelGround(const Eigen::Vector3d& foot);
+  void holdFeltGround(const Eigen::Vector3d& foot);
   void note(double now_s, const std::string& what);
   std::uint64_t send(link::CommandBody body, double now_s);
 
@@ -202,6 +206,7 @@ class WalkExecutive {
   gait::GaitContext ctx_;
   ExecutiveOptions opt_;
   terrain::ElevationMap map_;
+  std::vector<Eigen::Vector3d> felt_;  // soles that met ground above the map
   TaskTree tasks_;
   std::vector<ExecutiveEvent> events_;
   Phase phase_ = Phase::kIdle;

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <optional>
 
 #include "InstalledConfig.h"
 #include "executive/WalkExecutive.h"
@@ -26,16 +28,30 @@ class CountingLink : public link::Link {
   void send(const link::Command& c) override {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
+    if (const auto* m = std::get_if<link::LegMove>(&c.body); m && joints[std::size_t(m->leg)]) {
+      const gait::LegJoints& at = *joints[std::size_t(m->leg)];
+      const gait::LegJoints& lift = m->waypoints.front();
+      lift_drift_rad = std::max(lift_drift_rad, std::abs(lift.rotation_rad - at.rotation_rad));
+      lift_drift_m = std::max(lift_drift_m, std::abs(lift.extension_m - at.extension_m));
+    }
     inner_.send(c);
   }
   std::vector<link::Telemetry> receive(std::chrono::milliseconds t) override {
-    return inner_.receive(t);
+    auto in = inner_.receive(t);
+    for (const auto& m : in)
+      if (const auto* leg = std::get_if<link::LegState>(&m.body))
+        joints[std::size_t(leg->leg)] = leg->joints;
+    return in;
   }
   std::string describe() const override { return inner_.describe(); }
   int count(const std::string& type) const {
     return int(std::count(sent.begin(), sent.end(), type));
   }
   std::vector<std::string> sent;  // but heartbeats
+  // The leg's joints last reported, and how far a lift's first waypoint
+  // was from them in rotation and extension.
+  std::array<std::optional<gait::LegJoints>, gait::kLegCount> joints{};
+  double lift_drift_rad = 0.0, lift_drift_m = 0.0;
 
  private:
   static rover::SimulatedRoverOptions options() {
@@ -318,6 +334,43 @@ TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
   c.executive.resume(c.now);
   c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
   EXPECT_EQ(c.link.count("LegMove"), 6);
+}
+
+// Feet set down 8 cm off their footholds stop short of them (early
+// contacts) on ground the scans also see: the map fuses the scan's heights
+// there, and still holds every felt sole's ground at least as high.
+TEST(Executive, TheMapKeepsTheGroundAFootMetAcrossLaterScans) {
+  ExecutiveOptions o = steps(6);
+  o.max_early_contacts = 100;
+  auto rover = withoutSlips();
+  rover.noise.placement_m = 0.08;
+  Console c(o, ground(), rover);
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.stepsDone() == 6; });
+  ASSERT_EQ(c.executive.stepsDone(), 6);
+  const auto& felt = c.executive.feltGround();
+  ASSERT_GE(felt.size(), 3u);
+  const auto& map = c.executive.map();
+  for (const auto& foot : felt) {
+    const auto cell = map.grid().cellAt(foot.x(), foot.y());
+    ASSERT_TRUE(cell && map.isKnown(cell->row, cell->col));
+    EXPECT_GE(map.elevation(cell->row, cell->col), foot.z() - 1e-6) << foot.transpose();
+  }
+}
+
+// Steps planned ahead lift from the stance predicted for them; the rover's
+// body moves (1 cm errors in the simulator) miss it, and the lift goes
+// straight up from where the leg really stands, as its encoders report.
+TEST(Executive, ALegLiftsStraightUpFromWhereItStands) {
+  Console c(steps(6));
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.stepsDone() == 6; });
+  ASSERT_EQ(c.executive.stepsDone(), 6);
+  ASSERT_GE(c.link.count("LegMove"), 4);
+  EXPECT_LT(c.link.lift_drift_rad, 1e-9);
+  EXPECT_LT(c.link.lift_drift_m, 1e-9);
 }
 
 TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
