@@ -71,6 +71,11 @@ void MapView::setMap(const terrain::ElevationMap& map) {
   recolor();
 }
 
+void MapView::clearMap() {
+  map_.reset();
+  recolor();
+}
+
 void MapView::setProposal(const std::optional<executive::StepProposal>& proposal) {
   proposal_ = proposal;
   recolor();  // the view follows the rover

@@ -224,9 +224,7 @@ void GroundStation::startWalk(int steps) {
   history_.clear();
   // Each walk maps afresh: the last walk's map goes at once, before the
   // session's thread tells the new one.
-  const executive::ExecutiveOptions walk;
-  window_.mapView()->setMap(
-      terrain::ElevationMap(GridSpec::covering(walk.map_extent, walk.map_resolution_m)));
+  window_.mapView()->clearMap();
   window_.terrainView()->clear();
   mesh_.clearWalkScans();
   session_->start(steps);

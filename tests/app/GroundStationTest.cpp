@@ -134,8 +134,11 @@ class GroundStationTest : public QObject {
     QTRY_COMPARE_WITH_TIMEOUT(c.session().state().commands_in_flight, std::size_t(0), 5000);
     QTRY_COMPARE_WITH_TIMEOUT(c.session().state().authority, c.session().state().console, 5000);
     QVERIFY(c.session().state().console.rfind("alice@", 0) == 0);
-    // A second walk from where the first ended.
+    // A second walk from where the first ended; the first walk's map goes
+    // at once.
+    QVERIFY(c.map.map().has_value());
     c.start(1);
+    QVERIFY(!c.map.map().has_value());
     QTRY_VERIFY_WITH_TIMEOUT(c.panel.approveButton()->isEnabled(), 30000);
     QVERIFY((c.session().pending()->from.body.xy - after).norm() < 0.05);
   }
