@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "gait/LegRecovery.h"
 #include "terrain/Merge.h"
 
 namespace ambler::executive {
@@ -511,17 +512,15 @@ void WalkExecutive::sendNext(double now_s) {
   ++next_command_;
 }
 
-// Straight up from where the leg stands (cmu-1990 'Real-time control': no
-// horizontal move before lift-off). A step planned ahead lifts from the
-// stance predicted for it, which the moves before missed by their execution
-// error; the sole, beside a rock, would drag across its edge.
+// The lift goes straight up from where the leg stands, as it reports. A
+// step planned ahead lifts from the stance predicted for it, which the
+// moves before missed by their execution error; the sole, beside a rock,
+// would drag across its edge.
 void WalkExecutive::liftFromWhereItStands(link::LegMove& move) const {
   const auto& leg = report_.legs[std::size_t(move.leg)];
   if (!leg || move.waypoints.empty()) return;
-  const auto& m = ctx_.model;
-  move.waypoints.front().rotation_rad = leg->joints.rotation_rad;
-  move.waypoints.front().extension_m =
-      std::clamp(leg->joints.extension_m, m.extension_min_m, m.extension_max_m);
+  auto& lift = move.waypoints.front();
+  lift = gait::liftOff(leg->joints, lift.vertical_m, ctx_.model);
 }
 
 // What the rover reports after a move, against the plan.

@@ -35,6 +35,12 @@ double angleBetween(double a, double b) { return std::abs(std::remainder(a - b, 
 
 }  // namespace
 
+LegJoints liftOff(const LegJoints& standing, double vertical_m, const RoverModel& model) {
+  return {standing.rotation_rad,
+          std::clamp(standing.extension_m, model.extension_min_m, model.extension_max_m),
+          vertical_m};
+}
+
 RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int leg,
                              const Eigen::Vector3d& goal, const ClearanceField& clearance,
                              const RecoveryOptions& o, double touchdown_overshoot) {
@@ -138,13 +144,7 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
     return z;
   };
   const double first = std::max({soleAt(0), start_z + o.clearance_m});
-  // Straight up first: the controller does not move a leg horizontally
-  // before lift-off (cmu-1990 'Real-time control').
-  // The reported extension can read past its limit by the encoder's noise
-  // where the leg really stands at it; the lift is commanded at the limit.
-  const double lift_extension =
-      std::clamp(start_q.extension_m, model.extension_min_m, model.extension_max_m);
-  plan.waypoints.push_back({start_q.rotation_rad, lift_extension, stance.body.link_z - first});
+  plan.waypoints.push_back(liftOff(start_q, stance.body.link_z - first, model));
   double time = 0.0, energy = 0.0;
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const int c = cells[k];

@@ -47,6 +47,13 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
                              const Eigen::Vector3d& goal, const ClearanceField& clearance,
                              const RecoveryOptions& options = {}, double touchdown_overshoot = 0.1);
 
+// The lift-off waypoint: straight up from the joints the leg stands at to
+// `vertical_m`, since the controller does not move a leg horizontally before
+// lift-off (cmu-1990 'Real-time control'). A reported extension can read
+// past its limit by the encoder's noise where the leg really stands at it;
+// the lift is commanded at the limit.
+LegJoints liftOff(const LegJoints& standing, double vertical_m, const RoverModel& model);
+
 // Where the sole of `leg` passes in the world as it follows `plan` from
 // `stance` (joints interpolated as the controller moves them, all arriving
 // together), ending where the contact stops it at `goal`'s height.
