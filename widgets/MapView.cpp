@@ -71,7 +71,7 @@ void MapView::setMap(const terrain::ElevationMap& map) {
   recolor();
 }
 
-void MapView::clearMap() {
+void MapView::clear() {
   map_.reset();
   recolor();
 }

@@ -28,7 +28,7 @@ class MapView : public QWidget {
   explicit MapView(QWidget* parent = nullptr);
 
   void setMap(const terrain::ElevationMap& map);
-  void clearMap();  // shows that there is no map yet
+  void clear();  // back to "No terrain map yet"
   void setProposal(const std::optional<executive::StepProposal>& proposal);
   // The rover as it reports itself, drawn (and followed) when no step is
   // proposed: a walk between steps, or a replay.

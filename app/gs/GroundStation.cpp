@@ -224,7 +224,7 @@ void GroundStation::startWalk(int steps) {
   history_.clear();
   // Each walk maps afresh: the last walk's map goes at once, before the
   // session's thread tells the new one.
-  window_.mapView()->clearMap();
+  window_.mapView()->clear();
   window_.terrainView()->clear();
   mesh_.clearWalkScans();
   session_->start(steps);
