@@ -52,10 +52,10 @@ class WalkWorker : public QObject {
              const std::filesystem::path& log_path)
       : session_(session),
         context_(context),
-        log_(log_path, rover.mission),
+        log_path_(log_path),
         rover_(std::move(rover)),
         gate_([this](const missionlog::Decision& d) {
-          log_.record(d);
+          log_->record(d);
           table_.decided(d);
           rows_changed_ = true;
         }) {
@@ -64,16 +64,23 @@ class WalkWorker : public QObject {
     connect(&timer_, &QTimer::timeout, this, [this] { poll(); });
   }
 
-  // The first call on the session's thread; a link that cannot be opened
-  // is refused, and the session then does nothing.
+  // The first call on the session's thread (the log's file is created and
+  // synced here, not on the GUI thread); a log or a link that cannot be
+  // opened is refused, and the session then does nothing.
   void open() {
+    try {
+      log_ = std::make_unique<missionlog::MissionLog>(log_path_, rover_.mission);
+    } catch (const std::exception& e) {
+      return tellRefusal(OperatorAction::kConnect,
+                         Refusal::because(std::string("No session without its log: ") + e.what()));
+    }
     try {
       rover_link_ = rover_.open();
     } catch (const std::exception& e) {
       return tellRefusal(OperatorAction::kConnect,
                          Refusal::because(std::string("Could not connect: ") + e.what()));
     }
-    recording_ = std::make_unique<missionlog::RecordingLink>(*rover_link_, log_);
+    recording_ = std::make_unique<missionlog::RecordingLink>(*rover_link_, *log_);
     link_ = std::make_unique<link::WatchedLink>(
         *recording_, health_, link::utcNowS,
         link::LinkObserver{[this](const link::Command& c) {
@@ -178,14 +185,14 @@ class WalkWorker : public QObject {
     executive_ =
         std::make_unique<executive::WalkExecutive>(*link_, *signer_, gate_, context_, options);
     executive_->onProduct([this](double t, const std::string& kind, const std::string& parameters) {
-      log_.recordProduct(t, kind, parameters);
+      log_->recordProduct(t, kind, parameters);
     });
     executive_->onScanMapped([this](const sensor::RangeImage& scan) {
       map_changed_ = true;
       tell([scan](WalkSession& s) { emit s.scanMapped(scan); });
     });
     executive_->onEvent([this](const executive::ExecutiveEvent& e) {
-      log_.recordEvent(e.time_s, e.what);
+      log_->recordEvent(e.time_s, e.what);
       table_.noted(e.time_s, e.what);
       rows_changed_ = true;
       tell([what = QString::fromStdString(e.what)](WalkSession& s) { emit s.eventNoted(what); });
@@ -267,7 +274,7 @@ class WalkWorker : public QObject {
       return outside;
     const missionlog::Decision decision{link::utcNowS(), who, 0, missionlog::Verdict::kApproved,
                                         "{\"grasp\": " + detail + "}"};
-    log_.record(decision);
+    log_->record(decision);
     table_.decided(decision);
     rows_changed_ = true;
     const link::Command command = signer_->command(rover_.rover_id, grasp);
@@ -307,7 +314,8 @@ class WalkWorker : public QObject {
 
   WalkSession& session_;
   gait::GaitContext context_;
-  missionlog::MissionLog log_;
+  std::filesystem::path log_path_;
+  std::unique_ptr<missionlog::MissionLog> log_;  // from open() on
   replay::CommandTable table_;
   RoverConnection rover_;
   std::unique_ptr<link::Link> rover_link_;

@@ -60,8 +60,9 @@ class WalkSession : public QObject {
   Q_OBJECT
 
  public:
-  // Recorded in the log at `log_path` (created, or appended to;
-  // missionlog::LogError when it cannot be).
+  // Recorded in the log at `log_path` (created, or appended to, on the
+  // session's thread; refused() with OperatorAction::kConnect when it
+  // cannot be).
   WalkSession(const gait::GaitContext& context, RoverConnection rover,
               const std::filesystem::path& log_path, QObject* parent = nullptr);
   // Waits for the step the session's thread is working on, then ends it.

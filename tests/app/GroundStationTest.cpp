@@ -168,6 +168,32 @@ class GroundStationTest : public QObject {
     QCOMPARE(session.state().phase, Phase::kIdle);
   }
 
+  // The log is opened on the session's thread: a folder that cannot hold
+  // it is refused by name, and nothing is sent to the rover unlogged.
+  void aLogThatCannotBeWrittenIsRefusedNotFatal() {
+    bool opened = false;
+    ambler::gs::RoverConnection rover;
+    rover.open = [&opened]() -> std::unique_ptr<ambler::link::Link> {
+      opened = true;
+      throw std::runtime_error("not to be opened without a log");
+    };
+    rover.key = {"alice", std::vector<std::uint8_t>(32, 7)};
+    rover.mission = "unlogged";
+    WalkSession session(options(QDir::tempPath()).ground, std::move(rover),
+                        "/proc/no/such/walk.sqlite");
+    QSignalSpy refused(&session, &WalkSession::refused);
+    QVERIFY(refused.wait(5000));
+    QCOMPARE(refused.front().at(0).value<ambler::gs::OperatorAction>(),
+             ambler::gs::OperatorAction::kConnect);
+    const QString why = refused.front().at(1).toString();
+    QVERIFY2(why.contains("mission log") && why.contains("/proc/no/such/walk.sqlite"),
+             qPrintable(why));
+    session.start(1);
+    QTest::qWait(300);
+    QVERIFY(!opened);
+    QCOMPARE(refused.size(), 1);
+    QCOMPARE(session.state().phase, Phase::kIdle);
+  }
   // The 3-D view cleared for a new walk draws the rover again as soon as
   // the walk's first map arrives, without waiting for the rover to move.
   void theThreeDViewDrawsTheRoverAgainOnceAMapFollowsAClear() {
