@@ -37,7 +37,11 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
                       {"plan_ms", s.plan_ms},
                       {"planned_ahead", s.planned_ahead},
                       {"pose_error_m", s.pose_error_m},
+                      {"pose_error_along_m", s.pose_error_along_m},
+                      {"pose_error_across_m", s.pose_error_across_m},
                       {"dead_reckoning_error_m", s.dead_reckoning_error_m},
+                      {"dead_reckoning_error_along_m", s.dead_reckoning_error_along_m},
+                      {"dead_reckoning_error_across_m", s.dead_reckoning_error_across_m},
                       {"heading_error_rad", s.heading_error_rad},
                       {"dead_reckoning_heading_error_rad", s.dead_reckoning_heading_error_rad},
                       {"event", s.event}};

@@ -132,8 +132,15 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
     if (k < truth.after_body_moves.size()) {
       const gait::BodyPose& t = truth.after_body_moves[k];
       const gait::BodyPose& estimate = s.registered.value_or(s.estimated);
-      w.pose_error_m = (estimate.xy - t.xy).norm();
-      w.dead_reckoning_error_m = (s.reported.xy - t.xy).norm();
+      const Eigen::Vector2d along(std::cos(t.heading_rad), std::sin(t.heading_rad));
+      const Eigen::Vector2d left(-along.y(), along.x());
+      const Eigen::Vector2d error = estimate.xy - t.xy, drift = s.reported.xy - t.xy;
+      w.pose_error_m = error.norm();
+      w.pose_error_along_m = error.dot(along);
+      w.pose_error_across_m = error.dot(left);
+      w.dead_reckoning_error_m = drift.norm();
+      w.dead_reckoning_error_along_m = drift.dot(along);
+      w.dead_reckoning_error_across_m = drift.dot(left);
       w.heading_error_rad = std::remainder(estimate.heading_rad - t.heading_rad, 2 * M_PI);
       w.dead_reckoning_heading_error_rad =
           std::remainder(s.reported.heading_rad - t.heading_rad, 2 * M_PI);

@@ -62,7 +62,11 @@ struct WalkStep {
   // there) and where the rover's dead reckoning alone put it; heading errors
   // signed, estimate minus truth.
   double pose_error_m = 0.0;
+  // The same error along the true heading and across it, to its left:
+  // what drifts the walk, a bias along the track or a turn.
+  double pose_error_along_m = 0.0, pose_error_across_m = 0.0;
   double dead_reckoning_error_m = 0.0;
+  double dead_reckoning_error_along_m = 0.0, dead_reckoning_error_across_m = 0.0;
   double heading_error_rad = 0.0;
   double dead_reckoning_heading_error_rad = 0.0;
   std::string event;

@@ -34,6 +34,13 @@ TEST_P(WalkOnSeed, TwentyFiveStepsStableWithoutCollisions) {
   EXPECT_GT(r.pose_error_max_m, 0.0);
   EXPECT_LE(r.pose_error_max_m, 0.02 * 25);
   EXPECT_EQ(r.pose_error_final_m, r.log.back().pose_error_m);
+  // Along the track and across it: the same error, split.
+  for (const auto& step : r.log) {
+    EXPECT_NEAR(std::hypot(step.pose_error_along_m, step.pose_error_across_m), step.pose_error_m,
+                1e-12);
+    EXPECT_NEAR(std::hypot(step.dead_reckoning_error_along_m, step.dead_reckoning_error_across_m),
+                step.dead_reckoning_error_m, 1e-12);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, WalkOnSeed, testing::Values(1, 2, 3, 4, 5));
@@ -77,6 +84,8 @@ TEST(Walk, SingleFootSlipsAreCaughtByDeadReckoning) {
   EXPECT_EQ(r.pose_error_max_m, r.dead_reckoning_error_max_m) << "nothing corrects it";
   for (const auto& step : r.log) {
     EXPECT_EQ(step.heading_error_rad, step.dead_reckoning_heading_error_rad);
+    EXPECT_EQ(step.pose_error_along_m, step.dead_reckoning_error_along_m);
+    EXPECT_EQ(step.pose_error_across_m, step.dead_reckoning_error_across_m);
     EXPECT_LT(std::abs(step.dead_reckoning_heading_error_rad), 0.003);  // the heading too
   }
   EXPECT_EQ(r.scans_registered, 0);
