@@ -1,5 +1,9 @@
 #include "rendering/VtkView.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <deque>
 #include <mutex>
@@ -303,6 +307,16 @@ class VtkView::Renderer : public QObject {
   bool drain_posted_ = false;  // guarded by inputs_mutex_
 };
 
+namespace {
+
+// The calling thread, and the threads it starts from now on (llvmpipe's
+// rasterisers come with the OpenGL context), run at nice 5: on a
+// software-rendered console with few cores a frame must not hold back the
+// GUI thread's paints and input.
+void yieldToTheGuiThread() { setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 5); }
+
+}  // namespace
+
 VtkView::VtkView(QWidget* parent) : QWidget(parent), surface_(new QOffscreenSurface) {
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);
@@ -314,7 +328,10 @@ VtkView::VtkView(QWidget* parent) : QWidget(parent), surface_(new QOffscreenSurf
   renderer_->moveToThread(&thread_);
   thread_.setObjectName("3-D view");
   thread_.start();
-  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get()] { r->start(); });
+  QMetaObject::invokeMethod(renderer_.get(), [r = renderer_.get()] {
+    yieldToTheGuiThread();
+    r->start();
+  });
 }
 
 VtkView::~VtkView() {
