@@ -322,14 +322,15 @@ TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
       << c.executive.suspendedBecause();
   EXPECT_EQ(c.link.count("LegMove"), 3);
   EXPECT_EQ(c.executive.stepsDone(), 1);  // the first step moves the body only
-  // The map holds the ground the last foot stopped on at least as high.
-  const int leg = std::stoi(
-      c.executive.suspendedBecause().substr(c.executive.suspendedBecause().find("leg ") + 4));
-  const Eigen::Vector3d foot = c.executive.reported()->feet[std::size_t(leg)];
+  // The map holds the ground each foot stopped on at least as high.
+  const auto& felt = c.executive.feltGround();
+  ASSERT_EQ(felt.size(), 3u);
   const auto& map = c.executive.map();
-  const auto cell = map.grid().cellAt(foot.x(), foot.y());
-  ASSERT_TRUE(cell && map.isKnown(cell->row, cell->col));
-  EXPECT_GE(map.elevation(cell->row, cell->col), foot.z() - 1e-6);
+  for (const auto& foot : felt) {
+    const auto cell = map.grid().cellAt(foot.x(), foot.y());
+    ASSERT_TRUE(cell && map.isKnown(cell->row, cell->col));
+    EXPECT_GE(map.elevation(cell->row, cell->col), foot.z() - 1e-6) << foot.transpose();
+  }
 
   c.executive.resume(c.now);
   c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
