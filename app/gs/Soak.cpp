@@ -49,10 +49,16 @@ void Soak::startWalk() {
 void Soak::poll() {
   const auto* session = station_.session();
   if (!session) return;
-  const auto phase = session->state().phase;
-  if (phase != executive::Phase::kDone && phase != executive::Phase::kSuspended) return;
+  const auto& state = session->state();
+  // A step whose interlocks fail waits for an operator even on
+  // auto-approve; unattended, that ends the walk as a suspension would.
+  const bool held = state.pending && !state.pending->interlocks.passed();
+  if (state.phase != executive::Phase::kDone && state.phase != executive::Phase::kSuspended &&
+      !held)
+    return;
+  held_ += held;
   poll_.stop();
-  const int walked = session->state().steps_done;
+  const int walked = state.steps_done;
   rss_after_walk_mb_.push_back(residentMb());
   if (steps_ < 200 && steps_ + walked >= 200) rss_at_200_mb_ = rss_after_walk_mb_.back();
   steps_ += walked;
@@ -82,6 +88,7 @@ void Soak::finish() {
   watchdog_.stop();
   const double end_mb = residentMb();
   std::cout << "{\"steps\": " << steps_ << ", \"walks\": " << walks_
+            << ", \"walks_held_for_an_operator\": " << held_
             << ", \"wall_s\": " << double(clock_.elapsed()) / 1000.0
             << ", \"rss_mb_at_200_steps\": " << rss_at_200_mb_ << ", \"rss_mb_end\": " << end_mb
             << ", \"rss_growth_after_200_steps_mb\": "
