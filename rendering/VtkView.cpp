@@ -1,7 +1,6 @@
 #include "rendering/VtkView.h"
 
 #include <sys/resource.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -313,7 +312,7 @@ namespace {
 // rasterisers come with the OpenGL context), run at nice 5: on a
 // software-rendered console with few cores a frame must not hold back the
 // GUI thread's paints and input.
-void yieldToTheGuiThread() { setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 5); }
+void yieldToTheGuiThread() { setpriority(PRIO_PROCESS, id_t(gettid()), 5); }
 
 }  // namespace
 

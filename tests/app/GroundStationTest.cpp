@@ -194,6 +194,7 @@ class GroundStationTest : public QObject {
     QCOMPARE(refused.size(), 1);
     QCOMPARE(session.state().phase, Phase::kIdle);
   }
+
   // The 3-D view cleared for a new walk draws the rover again as soon as
   // the walk's first map arrives, without waiting for the rover to move.
   void theThreeDViewDrawsTheRoverAgainOnceAMapFollowsAClear() {
