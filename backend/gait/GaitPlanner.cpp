@@ -392,25 +392,19 @@ std::optional<Stance> shiftToFreeALeg(const Stance& stance, const Heading& headi
                                       const terrain::ElevationMap& map, const GaitContext& ctx) {
   const auto& g = ctx.gait;
   const auto& m = ctx.model;
-  // A foot reported beyond its leg's reach is brought back by moving toward
-  // it: on the way, the reach may be exceeded, but less and less.
-  auto passable = [&, excess = reachExcess(stance, m)](const Stance& s, double& left) {
-    const StanceCheck c = checkStance(s, stance, m, g.csp_margin_m);
-    if (c.ok()) return true;
-    const double now = reachExcess(s, m);
-    if (c.violated != Constraint::kKinematic || !(now < left) || now >= excess) return false;
-    left = now;
-    return marginWithout(s, m, -1) >= g.csp_margin_m;
+  // checkStance from `stance`: a foot reported beyond its leg's reach (a
+  // slip) may stay beyond it on the way, as long as it gets no farther.
+  const auto passable = [&](const Stance& s) {
+    return checkStance(s, stance, m, g.csp_margin_m).ok();
   };
   for (double distance = g.body_step_m; distance <= 0.6 + 1e-9; distance += g.body_step_m)
     for (int k = 0; k < 16; ++k) {
       const Eigen::Vector2d dir(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
       bool clear = true;
-      double left = INFINITY;
       Stance moved = stance;
       for (double t = g.body_step_m; clear && t <= distance + 1e-9; t += g.body_step_m) {
         moved.body.xy = stance.body.xy + std::min(t, distance) * dir;
-        clear = passable(moved, left);
+        clear = passable(moved);
       }
       if (clear && !liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m).empty() &&
           !rankedCandidates(moved, heading, map, ctx, {}, 2.0).empty())

@@ -72,10 +72,11 @@ std::vector<Eigen::Vector2d> Stance::supportingFeet(int except) const {
 
 namespace {
 
-// `settled(i, j)`: feet i and j need not keep the leg separation.
-template <typename Settled>
-StanceCheck check(const Stance& stance, const RoverModel& model, double csp_margin,
-                  Settled settled) {
+// `settled(i, j)`: feet i and j need not keep the leg separation;
+// `tolerated(i, q)`: foot i may stand beyond its leg's limits at joints q.
+template <typename Settled, typename Tolerated>
+StanceCheck check(const Stance& stance, const RoverModel& model, double csp_margin, Settled settled,
+                  Tolerated tolerated) {
   StanceCheck check;
   const Eigen::Matrix2d to_body = stance.body.rotation().transpose();  // once: sin/cos are dear
   for (int i = 0; i < kLegCount; ++i) {
@@ -83,7 +84,7 @@ StanceCheck check(const Stance& stance, const RoverModel& model, double csp_marg
     const Eigen::Vector3d& w = stance.feet[std::size_t(i)];
     const Eigen::Vector2d f = to_body * (w.head<2>() - stance.body.xy);
     const LegJoints q{0.0, (f - model.shaftOf(i)).norm(), stance.body.link_z - w.z()};
-    if (!model.withinLimits(q)) return {Constraint::kKinematic, i};
+    if (!model.withinLimits(q) && !tolerated(i, q)) return {Constraint::kKinematic, i};
     const Eigen::Vector2d k = model.body_keepout_half;
     if (std::abs(f.x()) < k.x() && std::abs(f.y()) < k.y()) return {Constraint::kLegBody, i};
     for (const auto& shaft : model.shafts)
@@ -102,7 +103,9 @@ StanceCheck check(const Stance& stance, const RoverModel& model, double csp_marg
 }  // namespace
 
 StanceCheck checkStance(const Stance& stance, const RoverModel& model, double csp_margin) {
-  return check(stance, model, csp_margin, [](int, int) { return false; });
+  return check(
+      stance, model, csp_margin, [](int, int) { return false; },
+      [](int, const LegJoints&) { return false; });
 }
 
 StanceCheck checkStance(const Stance& stance, const Stance& from, const RoverModel& model,
@@ -111,14 +114,11 @@ StanceCheck checkStance(const Stance& stance, const Stance& from, const RoverMod
     return from.supporting[std::size_t(i)] &&
            stance.feet[std::size_t(i)] == from.feet[std::size_t(i)];
   };
-  return check(stance, model, csp_margin, [&](int i, int j) { return stood(i) && stood(j); });
-}
-
-double reachExcess(const Stance& stance, const RoverModel& model) {
-  double excess = 0.0;
-  for (int i = 0; i < kLegCount; ++i)
-    if (stance.supporting[std::size_t(i)]) excess += model.beyondLimits(stance.joints(model, i));
-  return excess;
+  const auto closer = [&](int i, const LegJoints& q) {
+    return stood(i) && model.beyondLimits(q) < model.beyondLimits(from.joints(model, i));
+  };
+  return check(
+      stance, model, csp_margin, [&](int i, int j) { return stood(i) && stood(j); }, closer);
 }
 
 double marginWithout(const Stance& stance, const RoverModel& model, int leg) {

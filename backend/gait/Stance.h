@@ -79,13 +79,12 @@ StanceCheck checkStance(const Stance& stance, const RoverModel& model, double cs
 // As above, for a stance reached from `from`, except that two feet both
 // standing where they stood in `from` need not keep the leg separation:
 // neither moves, so their separation cannot change, and only lifting one of
-// them restores it (after a foot slipped into it).
+// them restores it (after a foot slipped into it). Likewise a foot standing
+// where it stood beyond its leg's limits (a slip) may stay beyond them when
+// the body has moved it closer to them: moving toward it is the way back,
+// and the same rule holds for the planner and the interlocks.
 StanceCheck checkStance(const Stance& stance, const Stance& from, const RoverModel& model,
                         double csp_margin);
-
-// How far the supporting feet are beyond their legs' extension and vertical
-// limits, summed (0 within them): a slipped foot can leave one out of reach.
-double reachExcess(const Stance& stance, const RoverModel& model);
 
 // CSP margin of the stance with `leg` lifted (the other legs as they are).
 double marginWithout(const Stance& stance, const RoverModel& model, int leg);

@@ -144,6 +144,59 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
+// A foot reported 6 cm beyond its leg's reach: a body move toward it, which
+// leaves it 4 cm beyond, passes, one away from it does not. With any one
+// foot 15 cm beyond, whatever the planner proposes passes too (mostly body
+// shifts to free a leg). When planner and interlock held different rules,
+// the interlock refused the shift for leg 3, and auto-approve held such
+// steps for an operator.
+TEST(Executive, TheWayBackFromASlipOutOfReachPassesTheStabilityInterlock) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const StepProposal& planned = *c.gate.pending();
+  const auto& ctx = ground();
+  const auto& model = ctx.model;
+  const auto slipped = [&](int leg, double beyond) {
+    gait::Stance s = planned.from;
+    const std::size_t k = std::size_t(leg);
+    const Eigen::Vector2d in_body = s.body.toBody(Eigen::Vector2d(s.feet[k].head<2>()));
+    const Eigen::Vector2d out = (in_body - model.shaftOf(leg)).normalized();
+    const Eigen::Vector2d at = model.shaftOf(leg) + (model.extension_max_m + beyond) * out;
+    s.feet[k].head<2>() = s.body.toWorld(at);
+    return std::pair{s, Eigen::Vector2d(s.body.rotation() * out)};
+  };
+  const auto [from, out] = slipped(1, 0.06);
+  gait::StepPlan toward = planned.plan;
+  toward.leg = -1;
+  toward.after_leg = toward.after = from;
+  toward.after.body.xy += 0.02 * out;
+  toward.body_path = {from.body, toward.after.body};
+  ASSERT_GT(model.beyondLimits(toward.after.joints(model, 1)), 0.03);
+  const auto closer = makeProposal(1, from, toward, c.executive.map(), ctx);
+  EXPECT_TRUE(closer.interlocks.checks[3].passed) << closer.interlocks.checks[3].detail;
+  gait::StepPlan away = toward;
+  away.after.body.xy = from.body.xy - 0.02 * out;
+  away.body_path = {from.body, away.after.body};
+  const auto farther = makeProposal(2, from, away, c.executive.map(), ctx);
+  EXPECT_FALSE(farther.interlocks.checks[3].passed);
+  EXPECT_NE(farther.interlocks.checks[3].detail.find("kinematic limits after the body move"),
+            std::string::npos)
+      << farther.interlocks.checks[3].detail;
+
+  int plans = 0;
+  for (int leg = 0; leg < gait::kLegCount; ++leg) {
+    const gait::Stance s = slipped(leg, 0.15).first;
+    const gait::StepPlan plan = gait::planStep(s, gait::Heading{}, c.executive.map(), ctx);
+    if (!plan.ok) continue;
+    ++plans;
+    const auto p = makeProposal(std::uint64_t(3 + leg), s, plan, c.executive.map(), ctx);
+    EXPECT_TRUE(p.interlocks.checks[3].passed)
+        << "leg " << leg << " (" << plan.reason << "): " << p.interlocks.checks[3].detail;
+  }
+  EXPECT_GE(plans, 3);
+}
+
 // Two feet a slip left 1 cm within the leg separation stay where they are
 // while another foot is placed: that passes. Setting a foot down within the
 // separation of another fails.
