@@ -278,6 +278,8 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"min_grazing_deg", a.locus.edges.min_grazing_deg},
       {"edge_noise_sigmas", a.locus.edges.noise_sigmas},
       {"edge_weak_noise_sigmas", a.locus.edges.weak_noise_sigmas},
+      {"grazing_unknown", a.locus.edges.mark_grazing},
+      {"grazing_noise_sigmas", a.locus.edges.grazing_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"methods", methodsJson(pooled)},
       {"families", by_family},

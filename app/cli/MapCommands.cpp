@@ -68,6 +68,14 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "a smaller allowance [std. dev.] for jumps continued by a neighbouring jump")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--grazing-unknown", edges.mark_grazing,
+                 "cells between samples steeper than --min-grazing that are no edge are "
+                 "unknown (true/false)")
+      ->capture_default_str();
+  cmd.add_option("--grazing-noise", edges.grazing_noise_sigmas,
+                 "noise allowance [std. dev.] before a pair counts as grazing")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
   cmd.add_option("--max-sample-spacing", locus.max_sample_spacing_m,
                  "cells between samples farther apart on the ground are unknown [m]; inf: off")
       ->check(CLI::PositiveNumber)

@@ -518,7 +518,9 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
                                int quad_col) const {
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow, t};
-  if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
+  if (edges_.quadIsGrazing(quad_row, quad_col) || isSteepFace(quad_row, quad_col) ||
+      isSparse(quad_row, quad_col))
+    return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
   return {CellState::kKnown, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};

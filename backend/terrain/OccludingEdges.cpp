@@ -20,21 +20,29 @@ struct JumpTest {
   double k;
 
   double weak_sigmas;
+  double grazing_sigmas;
 
-  // 2: a discontinuity; 1: one only within the weak noise allowance; 0: none.
+  // 2: a discontinuity; 1: one only within the weak noise allowance; 3:
+  // none, but steeper than the grazing bound beyond its noise allowance; 0:
+  // none.
   std::uint8_t operator()(double a, double b, double separation, double near_slope) const {
     const double sigma = k * std::sqrt(a * a * a * a + b * b * b * b);
-    const double smooth =
-        std::max(std::min(a, b) * separation * inv_tan_grazing, step_ratio * near_slope);
+    const double grazing = std::min(a, b) * separation * inv_tan_grazing;
+    const double smooth = std::max(grazing, step_ratio * near_slope);
     const double jump = std::abs(a - b);
     if (jump > smooth + noise_sigmas * sigma) return 2;
-    return jump > smooth + std::min(weak_sigmas, noise_sigmas) * sigma ? 1 : 0;
+    if (jump > smooth + std::min(weak_sigmas, noise_sigmas) * sigma) return 1;
+    return jump > grazing + grazing_sigmas * sigma ? 3 : 0;
   }
 };
 
 // The neighbour pairs of a pixel: to its right, below it, and the two
 // diagonals of the quad below and right of it.
 enum PairFlags : std::uint8_t { kRight = 1, kDown = 2, kDiagonal = 4, kAnti = 8 };
+
+// JumpTest's level for a pair steeper than the grazing bound, yet no
+// discontinuity.
+constexpr std::uint8_t kGrazingOnly = 3;
 
 }  // namespace
 
@@ -44,8 +52,12 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       pixel_(std::size_t(rows_) * cols_, 0),
       quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
   const auto& g = image.geometry;
-  const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0), options.step_ratio,
-                       options.noise_sigmas, image.range_sigma_k, options.weak_noise_sigmas};
+  const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
+                       options.step_ratio,
+                       options.noise_sigmas,
+                       image.range_sigma_k,
+                       options.weak_noise_sigmas,
+                       options.grazing_noise_sigmas};
   // Angular separation of neighbours: a column step turns the ray by
   // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
   const double col_sep = std::abs(g.theta_step);
@@ -129,7 +141,7 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       for (int e : {-1, 1}) {
         const bool along_columns = kind == 1 || (kind >= 2 && d == 0);
         const int rr = along_columns ? r + d : r + e, cc = along_columns ? c + e : c + d;
-        if (levelOf(rr, cc, kind) > 0) return true;
+        if (const int l = levelOf(rr, cc, kind); l == 1 || l == 2) return true;
       }
     return false;
   };
@@ -139,24 +151,32 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
   auto quad = [&](int r, int c) -> std::uint8_t& {
     return quad_[std::size_t(r) * (cols_ - 1) + c];
   };
+  auto mark = [&](int r, int c, int kind, std::uint8_t flag) {
+    auto set = [&](int qr, int qc) { quad(qr, qc) |= flag; };
+    if (kind == 0) {
+      if (r > 0) set(r - 1, c);
+      if (r + 1 < rows_) set(r, c);
+    } else if (kind == 1) {
+      if (c > 0) set(r, c - 1);
+      if (c + 1 < cols_) set(r, c);
+    } else {
+      set(r, c);
+    }
+  };
   for (int r = 0; r < rows_; ++r)
     for (int c = 0; c < cols_; ++c) {
       if (!level[std::size_t(r) * cols_ + c]) continue;
       for (int kind = 0; kind < 4; ++kind) {
         const int l = levelOf(r, c, kind);
-        if (l == 0 || (l == 1 && !continued(r, c, kind))) continue;
+        if (l == 0) continue;
+        if (l == kGrazingOnly || (l == 1 && !continued(r, c, kind))) {
+          if (options.mark_grazing) mark(r, c, kind, kGrazingQuad);
+          continue;
+        }
         const int r1 = kind == 0 ? r : r + 1;
         const int c0 = kind == 3 ? c + 1 : c, c1 = kind == 1 ? c : (kind == 3 ? c : c + 1);
         pixel_[std::size_t(r) * cols_ + c0] = pixel_[std::size_t(r1) * cols_ + c1] = 1;
-        if (kind == 0) {
-          if (r > 0) quad(r - 1, c) = 1;
-          if (r + 1 < rows_) quad(r, c) = 1;
-        } else if (kind == 1) {
-          if (c > 0) quad(r, c - 1) = 1;
-          if (c + 1 < cols_) quad(r, c) = 1;
-        } else {
-          quad(r, c) = 1;
-        }
+        mark(r, c, kind, kEdgeQuad);
       }
     }
 }

@@ -23,6 +23,13 @@ struct OccludingEdgeOptions {
   // not. Equal to noise_sigmas turns it off; 2 finds more of the terrain
   // families' shadows for a little precision (README, elevation maps).
   double weak_noise_sigmas = 2.0;
+  // Quads with a pair steeper than min_grazing_deg, beyond a noise
+  // allowance, that is no edge are grazing (quadIsGrazing), and the locus
+  // map leaves their cells unknown: far fewer cells nobody saw are known,
+  // at the price of much oblique ground. Off by default: it costs the walk's
+  // scan matching on rock fields (README, elevation maps).
+  bool mark_grazing = false;
+  double grazing_noise_sigmas = 1.0;  // the allowance, in std. dev. of the jump
 };
 
 // The discontinuities of one range image, indexed by the image's quads: quad
@@ -35,12 +42,19 @@ class OccludingEdges {
   OccludingEdges() = default;
   OccludingEdges(const sensor::RangeImage& image, const OccludingEdgeOptions& options = {});
 
-  bool quadIsEdge(int r, int c) const { return quad_[std::size_t(r) * (cols_ - 1) + c] != 0; }
+  bool quadIsEdge(int r, int c) const { return quadFlags(r, c) & kEdgeQuad; }
+  // A quad with a pair steeper than min_grazing_deg that is not an edge: a
+  // surface seen that obliquely, or an edge the noise hides. Either way
+  // what lies between its samples was barely seen, if at all.
+  bool quadIsGrazing(int r, int c) const { return quadFlags(r, c) == kGrazingQuad; }
   // Pixels on either side of a discontinuity (for display and tests).
   bool pixelIsEdge(int r, int c) const { return pixel_[std::size_t(r) * cols_ + c] != 0; }
   int edgePixelCount() const;
 
  private:
+  static constexpr std::uint8_t kEdgeQuad = 1, kGrazingQuad = 2;
+  std::uint8_t quadFlags(int r, int c) const { return quad_[std::size_t(r) * (cols_ - 1) + c]; }
+
   int rows_ = 0, cols_ = 0;
   std::vector<std::uint8_t> pixel_;
   std::vector<std::uint8_t> quad_;  // (rows - 1) x (cols - 1)
