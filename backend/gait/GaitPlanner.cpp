@@ -392,11 +392,6 @@ std::optional<Stance> shiftToFreeALeg(const Stance& stance, const Heading& headi
                                       const terrain::ElevationMap& map, const GaitContext& ctx) {
   const auto& g = ctx.gait;
   const auto& m = ctx.model;
-  // checkStance from `stance`: a foot reported beyond its leg's reach (a
-  // slip) may stay beyond it on the way, as long as it gets no farther.
-  const auto passable = [&](const Stance& s) {
-    return checkStance(s, stance, m, g.csp_margin_m).ok();
-  };
   for (double distance = g.body_step_m; distance <= 0.6 + 1e-9; distance += g.body_step_m)
     for (int k = 0; k < 16; ++k) {
       const Eigen::Vector2d dir(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
@@ -404,7 +399,9 @@ std::optional<Stance> shiftToFreeALeg(const Stance& stance, const Heading& headi
       Stance moved = stance;
       for (double t = g.body_step_m; clear && t <= distance + 1e-9; t += g.body_step_m) {
         moved.body.xy = stance.body.xy + std::min(t, distance) * dir;
-        clear = passable(moved);
+        // From `stance`: a foot a slip left beyond its leg's reach may stay
+        // beyond it on the way, as long as the shift brings it closer.
+        clear = checkStance(moved, stance, m, g.csp_margin_m).ok();
       }
       if (clear && !liftableLegs(moved, ctx.model, g.csp_margin_m + g.execution_slack_m).empty() &&
           !rankedCandidates(moved, heading, map, ctx, {}, 2.0).empty())
