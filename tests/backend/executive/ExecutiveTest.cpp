@@ -103,6 +103,23 @@ TEST(Executive, APlannedStepPassesEveryInterlock) {
   EXPECT_EQ(c.link.sent, std::vector<std::string>{"AcquireScan"});
 }
 
+// `from` with the foot of `leg` pushed straight out from its shaft to
+// `beyond` past the leg's reach (a slip), and that outward direction in the
+// world.
+struct SlippedStance {
+  gait::Stance stance;
+  Eigen::Vector2d out;
+};
+SlippedStance slippedOutOfReach(gait::Stance from, int leg, double beyond) {
+  const auto& model = ground().model;
+  const std::size_t k = std::size_t(leg);
+  const Eigen::Vector2d in_body = from.body.toBody(Eigen::Vector2d(from.feet[k].head<2>()));
+  const Eigen::Vector2d out = (in_body - model.shaftOf(leg)).normalized();
+  const Eigen::Vector2d at = model.shaftOf(leg) + (model.extension_max_m + beyond) * out;
+  from.feet[k].head<2>() = from.body.toWorld(at);
+  return {from, from.body.rotation() * out};
+}
+
 // A supporting foot reported 5 mm beyond the leg's reach (a slip) fails
 // any step that places another foot, but a body move that brings it back
 // within reach passes: nothing is placed before the body moves.
@@ -111,14 +128,7 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   c.executive.start(c.now);
   c.untilDecisionNeeded();
   const StepProposal& planned = *c.gate.pending();
-  const auto& model = ground().model;
-  const int far = 1;
-  const std::size_t k = std::size_t(far);
-  gait::Stance from = planned.from;
-  const Eigen::Vector2d in_body = from.body.toBody(Eigen::Vector2d(from.feet[k].head<2>()));
-  const Eigen::Vector2d out = (in_body - model.shaftOf(far)).normalized();
-  const Eigen::Vector2d beyond = model.shaftOf(far) + (model.extension_max_m + 0.005) * out;
-  from.feet[k].head<2>() = from.body.toWorld(beyond);
+  const auto [from, out] = slippedOutOfReach(planned.from, 1, 0.005);
 
   // Another leg lifted and set down where it stood.
   gait::StepPlan leg_move = planned.plan;
@@ -136,7 +146,7 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   body_move.leg = -1;
   body_move.after_leg = from;
   body_move.after = from;
-  body_move.after.body.xy += from.body.rotation() * (0.02 * out);
+  body_move.after.body.xy += 0.02 * out;
   body_move.body_path = {from.body, body_move.after.body};
   const auto passed = makeProposal(2, from, body_move, c.executive.map(), ground());
   const auto& stability = passed.interlocks.checks[3];
@@ -157,16 +167,7 @@ TEST(Executive, TheWayBackFromASlipOutOfReachPassesTheStabilityInterlock) {
   const StepProposal& planned = *c.gate.pending();
   const auto& ctx = ground();
   const auto& model = ctx.model;
-  const auto slipped = [&](int leg, double beyond) {
-    gait::Stance s = planned.from;
-    const std::size_t k = std::size_t(leg);
-    const Eigen::Vector2d in_body = s.body.toBody(Eigen::Vector2d(s.feet[k].head<2>()));
-    const Eigen::Vector2d out = (in_body - model.shaftOf(leg)).normalized();
-    const Eigen::Vector2d at = model.shaftOf(leg) + (model.extension_max_m + beyond) * out;
-    s.feet[k].head<2>() = s.body.toWorld(at);
-    return std::pair{s, Eigen::Vector2d(s.body.rotation() * out)};
-  };
-  const auto [from, out] = slipped(1, 0.06);
+  const auto [from, out] = slippedOutOfReach(planned.from, 1, 0.06);
   gait::StepPlan toward = planned.plan;
   toward.leg = -1;
   toward.after_leg = toward.after = from;
@@ -186,7 +187,7 @@ TEST(Executive, TheWayBackFromASlipOutOfReachPassesTheStabilityInterlock) {
 
   int plans = 0;
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
-    const gait::Stance s = slipped(leg, 0.15).first;
+    const gait::Stance s = slippedOutOfReach(planned.from, leg, 0.15).stance;
     const gait::StepPlan plan = gait::planStep(s, gait::Heading{}, c.executive.map(), ctx);
     if (!plan.ok) continue;
     ++plans;
