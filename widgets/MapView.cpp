@@ -25,7 +25,15 @@ QColor toQColor(const std::array<std::uint8_t, 3>& c) { return QColor(c[0], c[1]
 const QColor kUnknownColor = toQColor(rendering::kNoDataColor);
 const QColor kShadowColor(120, 40, 140);
 const QColor kKnownColor(200, 200, 200);
+const QColor kObliqueColor(215, 160, 60);
 const QColor kCannotStandColor(150, 30, 30);
+
+// Oblique cells show their value faded towards the no-data colour, dimmer:
+// a height to see, not ground to stand on.
+QColor faded(const QColor& c) {
+  return QColor((c.red() + kUnknownColor.red()) / 2, (c.green() + kUnknownColor.green()) / 2,
+                (c.blue() + kUnknownColor.blue()) / 2);
+}
 
 QString layerUnit(MapView::Shown shown) {
   switch (shown) {
@@ -56,7 +64,8 @@ std::optional<std::pair<double, double>> rangeOf(const std::vector<float>& value
 }  // namespace
 
 MapView::MapView(QWidget* parent) : QWidget(parent), layer_box_(new QComboBox(this)) {
-  layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"), tr("Known / unknown / shadow"),
+  layer_box_->addItems({tr("Elevation [m]"), tr("Sigma [m]"),
+                        tr("Known / oblique / unknown / shadow"),
                         tr("Footfall criterion (roughness)"), tr("Composite cost")});
   layer_box_->adjustSize();  // no layout sizes it: wide enough for the longest layer's name
   layer_box_->move(kMargin, kMargin);
@@ -142,11 +151,13 @@ const footfall::ScoreMap* MapView::costShown() const {
 QColor MapView::baseColor(int r, int c, const terrain::Layer& values) const {
   const auto state = map_->state(r, c);
   if (state == terrain::CellState::kShadow) return kShadowColor;
-  if (state != terrain::CellState::kKnown) return kUnknownColor;
-  if (shown_ == Shown::kState) return kKnownColor;
+  if (!terrain::hasHeight(state)) return kUnknownColor;
+  const bool oblique = state == terrain::CellState::kOblique;
+  if (shown_ == Shown::kState) return oblique ? kObliqueColor : kKnownColor;
   const double t = (values(r, c) - base_lo_) / (base_hi_ - base_lo_);
   if (isCostLayer(shown_)) return QColor::fromHslF(0.0, 0.0, 0.35 + 0.45 * std::clamp(t, 0.0, 1.0));
-  return toQColor(rendering::viridis(t));
+  const QColor color = toQColor(rendering::viridis(t));
+  return oblique ? faded(color) : color;
 }
 
 // One image pixel per map cell over the view box, coloured by the layer
@@ -168,7 +179,7 @@ void MapView::recolor() {
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const Eigen::Vector2d w = worldAt(r, c);
-      if (const auto cell = g.cellAt(w.x(), w.y()); cell && map_->isKnown(cell->row, cell->col))
+      if (const auto cell = g.cellAt(w.x(), w.y()); cell && map_->hasHeight(cell->row, cell->col))
         seen.push_back(values(cell->row, cell->col));
     }
   const auto base = rangeOf(seen).value_or(std::pair{0.0, 1.0});
@@ -234,8 +245,10 @@ void MapView::drawColorBar(QPainter& p) const {
   const QRectF m = mapRect();
   const QRectF bar(m.right() + 14, m.top() + 38, kBarWidth, m.height() * 0.6);
   if (shown_ == Shown::kState) {
-    const std::pair<QColor, QString> keys[] = {
-        {kKnownColor, tr("known")}, {kUnknownColor, tr("unknown")}, {kShadowColor, tr("shadow")}};
+    const std::pair<QColor, QString> keys[] = {{kKnownColor, tr("known")},
+                                               {kObliqueColor, tr("oblique")},
+                                               {kUnknownColor, tr("unknown")},
+                                               {kShadowColor, tr("shadow")}};
     double y = m.top() + 38;
     for (const auto& [color, name] : keys) {
       p.fillRect(QRectF(bar.left(), y, kBarWidth, 12), color);
@@ -263,7 +276,11 @@ void MapView::drawColorBar(QPainter& p) const {
   p.drawText(QPointF(none.right() + 4, none.bottom()), tr("unknown"));
   p.fillRect(none.translated(0, 16), kShadowColor);
   p.drawText(QPointF(none.right() + 4, none.bottom() + 16), tr("shadow"));
-  if (!isCostLayer(shown_)) return;
+  if (!isCostLayer(shown_)) {
+    p.fillRect(none.translated(0, 32), faded(toQColor(rendering::viridis(0.5))));
+    p.drawText(QPointF(none.right() + 4, none.bottom() + 32), tr("oblique"));
+    return;
+  }
   p.fillRect(none.translated(0, 32), kCannotStandColor);
   p.drawText(QPointF(none.right() + 4, none.bottom() + 32), tr("cannot stand"));
 }
@@ -355,6 +372,11 @@ void MapView::mouseMoveEvent(QMouseEvent* e) {
       switch (map_->state(r, c)) {
         case terrain::CellState::kKnown:
           text += tr(" | elevation %1 m, sigma %2 m")
+                      .arg(map_->elevation(r, c), 0, 'f', 3)
+                      .arg(map_->sigma(r, c), 0, 'f', 3);
+          break;
+        case terrain::CellState::kOblique:
+          text += tr(" | elevation %1 m, sigma %2 m, seen at a grazing angle: not to stand on")
                       .arg(map_->elevation(r, c), 0, 'f', 3)
                       .arg(map_->sigma(r, c), 0, 'f', 3);
           break;

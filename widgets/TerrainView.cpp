@@ -125,7 +125,7 @@ void TerrainView::setMap(const terrain::ElevationMap& map) {
   int r0 = g.rows, r1 = -1, c0 = g.cols, c1 = -1;
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c)
-      if (map.isKnown(r, c))
+      if (map.hasHeight(r, c))
         r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
   r0 = std::max(0, r0 - 1), c0 = std::max(0, c0 - 1);
   r1 = std::min(g.rows, r1 + 2), c1 = std::min(g.cols, c1 + 2);

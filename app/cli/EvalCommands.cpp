@@ -67,6 +67,7 @@ nlohmann::json optionalNumber(const std::optional<double>& v) {
 nlohmann::json scoreJson(const terrain::MapScore& s) {
   return {{"rmse_m", optionalNumber(s.rmse())},
           {"coverage", optionalNumber(s.coverage())},
+          {"oblique_coverage", optionalNumber(s.obliqueCoverage())},
           {"shadow_recall", optionalNumber(s.shadowRecall())},
           {"shadow_precision", optionalNumber(s.shadowPrecision())},
           {"shadow_recall_within_1_cell", optionalNumber(s.shadowRecallWithin1())},
@@ -278,7 +279,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"min_grazing_deg", a.locus.edges.min_grazing_deg},
       {"edge_noise_sigmas", a.locus.edges.noise_sigmas},
       {"edge_weak_noise_sigmas", a.locus.edges.weak_noise_sigmas},
-      {"grazing_unknown", a.locus.edges.mark_grazing},
+      {"grazing_oblique", a.locus.edges.mark_grazing},
       {"grazing_noise_sigmas", a.locus.edges.grazing_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"methods", methodsJson(pooled)},

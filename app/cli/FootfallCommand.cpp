@@ -56,8 +56,8 @@ footfall::LegContext legFrom(const FootfallArgs& a, const terrain::ElevationMap&
     leg.reference_z = parseNumbers(a.reference_z, 1, "--reference-z", "a height in metres")[0];
   } else {
     const auto summary = terrain::summarize(map, region);
-    if (summary.known == 0)
-      throw std::invalid_argument("region has no known cell to take --reference-z from");
+    if (summary.withHeight() == 0)
+      throw std::invalid_argument("region has no cell with a height to take --reference-z from");
     leg.reference_z = summary.mean_z;
   }
   if (!a.scanner.empty()) {

@@ -43,6 +43,7 @@ void runMap(const MapArgs& a) {
              {"known", map.countOf(terrain::CellState::kKnown)},
              {"shadow", map.countOf(terrain::CellState::kShadow)},
              {"unknown", map.countOf(terrain::CellState::kUnknown)},
+             {"oblique", map.countOf(terrain::CellState::kOblique)},
              {"build_ms", build_ms},
              {"elapsed_ms", millisecondsSince(start)}});
 }
@@ -68,9 +69,9 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "a smaller allowance [std. dev.] for jumps continued by a neighbouring jump")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
-  cmd.add_option("--grazing-unknown", edges.mark_grazing,
+  cmd.add_option("--grazing-oblique", edges.mark_grazing,
                  "cells between samples steeper than --min-grazing that are no edge are "
-                 "unknown (true/false)")
+                 "oblique: a height, not to stand on (true/false)")
       ->capture_default_str();
   cmd.add_option("--grazing-noise", edges.grazing_noise_sigmas,
                  "noise allowance [std. dev.] before a pair counts as grazing")

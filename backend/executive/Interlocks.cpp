@@ -72,17 +72,18 @@ InterlockCheck stability(const gait::StepPlan& plan, const gait::Stance& from,
   return {"stability", lowest >= margin, detail};
 }
 
-// Every cell under the foot is known: a foot set down in shadow or on
-// ground never seen may meet anything.
+// Every cell under the foot is known: a foot set down in shadow, on ground
+// never seen or on ground seen only at a grazing angle may meet anything.
 InterlockCheck footholdTerrain(const gait::StepPlan& plan, const terrain::ElevationMap& map,
                                const gait::GaitContext& ctx) {
   if (plan.leg < 0) return {"foothold terrain", true, "no foot is set down"};
   const Disk foot{plan.foothold.head<2>(), 0.5 * ctx.model.foot_diameter_m};
   const auto cells = terrain::summarize(map, foot);
   const std::string counts = std::to_string(cells.known) + " known, " +
+                             std::to_string(cells.oblique) + " oblique, " +
                              std::to_string(cells.shadow) + " shadow, " +
                              std::to_string(cells.unknown) + " unknown cells under the foot";
-  return {"foothold terrain", cells.known > 0 && cells.shadow == 0 && cells.unknown == 0, counts};
+  return {"foothold terrain", cells.known > 0 && cells.known == cells.cells(), counts};
 }
 
 }  // namespace

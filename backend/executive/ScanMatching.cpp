@@ -76,8 +76,8 @@ std::optional<Bilinear> bilinear(const terrain::ElevationMap& map, const Eigen::
   const double fy = (xy.y() - g.origin_y) / g.resolution - 0.5;
   const int c = int(std::floor(fx)), r = int(std::floor(fy));
   if (r < 0 || c < 0 || r + 1 >= g.rows || c + 1 >= g.cols) return std::nullopt;
-  if (!map.isKnown(r, c) || !map.isKnown(r, c + 1) || !map.isKnown(r + 1, c) ||
-      !map.isKnown(r + 1, c + 1))
+  if (!map.hasHeight(r, c) || !map.hasHeight(r, c + 1) || !map.hasHeight(r + 1, c) ||
+      !map.hasHeight(r + 1, c + 1))
     return std::nullopt;
   const double u = fx - c, v = fy - r;
   const double h00 = map.elevation(r, c), h01 = map.elevation(r, c + 1);

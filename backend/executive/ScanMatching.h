@@ -37,7 +37,8 @@ struct PoseCorrection {
 struct ScanMatchOptions {
   int max_iterations = 20;
   double min_step_m = 1e-4;  // a step moving the scanner and its farthest point less ends it
-  // A point counts when the map knows the four cells around it.
+  // A point counts when the map has heights (known or oblique) for the four
+  // cells around it.
   int min_points = 1500;
   double point_sigma_floor_m = 0.005;  // added to the scanner's k r^2
   double robust_k = 3.0;               // residuals beyond k sigma are down-weighted (Huber)

@@ -588,7 +588,7 @@ void WalkExecutive::feelGround(const Eigen::Vector3d& foot) {
 void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {
   const auto cell = map_.grid().cellAt(foot.x(), foot.y());
   if (!cell) return;
-  if (map_.isKnown(cell->row, cell->col) && map_.elevation(cell->row, cell->col) >= foot.z())
+  if (map_.hasHeight(cell->row, cell->col) && map_.elevation(cell->row, cell->col) >= foot.z())
     return;
   map_.setKnown(cell->row, cell->col, foot.z(), opt_.early_contact_m / 2);
 }

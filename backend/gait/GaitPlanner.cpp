@@ -287,7 +287,7 @@ ClearanceField clearanceFrom(const terrain::ElevationMap& map) {
     double top = -INFINITY;
     bool unknown = false;
     forEachCellIn(map.grid(), Disk{xy, radius}, [&](int r, int c) {
-      if (!map.isKnown(r, c))
+      if (!map.hasHeight(r, c))
         unknown = true;
       else
         top = std::max(top, double(map.elevation(r, c)) + 2.0 * double(map.sigma(r, c)));

@@ -52,9 +52,16 @@ std::vector<std::string> ElevationMap::layerNames() const {
 }
 
 void ElevationMap::setKnown(int r, int c, double elevation, double sigma, float observations) {
+  setHeight(r, c, CellState::kKnown, elevation, sigma, observations);
+}
+
+void ElevationMap::setHeight(int r, int c, CellState state, double elevation, double sigma,
+                             float observations) {
+  if (state != CellState::kKnown && state != CellState::kOblique)
+    throw std::invalid_argument("only a known or an oblique cell has a height");
   elevation_(r, c) = float(elevation);
   sigma_(r, c) = float(sigma);
-  state_(r, c) = float(CellState::kKnown);
+  state_(r, c) = float(state);
   count_(r, c) = observations;
 }
 

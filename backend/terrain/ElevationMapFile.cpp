@@ -37,7 +37,7 @@ void writeElevationMap(const ElevationMap& map, const fs::path& dir) {
   io::writeGeoTiff(dir / "state.tif", state, g);
   auto header = io::gridJson(g);
   header["frame"] = map.frame();
-  header["state_codes"] = {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}};
+  header["state_codes"] = {{"0", "known"}, {"1", "unknown"}, {"2", "shadow"}, {"3", "oblique"}};
   io::writeJsonFile(dir / "map.json", header);
 }
 
@@ -70,17 +70,19 @@ ElevationMap readElevationMap(const fs::path& dir) {
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
       const int code = state(r, c);
-      if (code > 2)
+      if (code > int(CellState::kOblique))
         throw cellError("state.tif", r, c, "has unknown state code " + std::to_string(code));
-      if (code != int(CellState::kKnown)) {
-        map.setUnobserved(r, c, CellState(code));
+      const auto s = CellState(code);
+      if (!hasHeight(s)) {
+        map.setUnobserved(r, c, s);
         continue;
       }
+      const std::string is = s == CellState::kKnown ? "is known" : "is oblique";
       if (!std::isfinite(elevation(r, c)))
-        throw cellError("elevation.tif", r, c, "is known but its elevation is not finite");
+        throw cellError("elevation.tif", r, c, is + " but its elevation is not finite");
       if (!std::isfinite(sigma(r, c)) || sigma(r, c) < 0)
-        throw cellError("sigma.tif", r, c, "is known but its sigma is not a finite number >= 0");
-      map.setKnown(r, c, elevation(r, c), sigma(r, c), count(r, c));
+        throw cellError("sigma.tif", r, c, is + " but its sigma is not a finite number >= 0");
+      map.setHeight(r, c, s, elevation(r, c), sigma(r, c), count(r, c));
     }
   return map;
 }

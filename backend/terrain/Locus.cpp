@@ -108,7 +108,7 @@ struct HeightNoise {
 
 struct CellResult {
   CellState state = CellState::kUnknown;
-  // Known: the cell's height. Shadow: the height of the line where the
+  // Known or oblique: the cell's height. Shadow: the height of the line where the
   // search stopped, at the occluder's silhouette, where the next cell's
   // search starts (else every cell of a shadow walks up from the ground).
   double z = NAN;
@@ -354,7 +354,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
     return r;
   }
   auto result = refine(line, bracket);
-  if (result.state != CellState::kKnown || !result.noise.ambiguous) return result;
+  if (!hasHeight(result.state) || !result.noise.ambiguous) return result;
   // A line running beside a vertical face stays within the noise of the
   // surface over a long stretch, so Delta may change sign anywhere along it:
   // the surface may be at either end (the face's foot or its top). Noise
@@ -513,17 +513,17 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
   return finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);
 }
 
-// Shadow, face or known; for a known cell, its sigma.
+// Shadow, face, oblique or known; for a cell with a height, its sigma.
 CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, double u, double col,
                                int quad_col) const {
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow, t};
-  if (edges_.quadIsGrazing(quad_row, quad_col) || isSteepFace(quad_row, quad_col) ||
-      isSparse(quad_row, quad_col))
-    return {CellState::kUnknown};
+  if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
-  return {CellState::kKnown, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
+  const auto state =
+      edges_.quadIsGrazing(quad_row, quad_col) ? CellState::kOblique : CellState::kKnown;
+  return {state, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
 }
 
 // krotkov1989 §3.2, note 5: far off, a shadow may be no larger than the
@@ -759,8 +759,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
     for (int c = 0; c < grid.cols;) {
       const auto p = grid.cellCenter(r, c);
       const auto result = solver.solve(p.x(), p.y(), z_guess);
-      if (result.state == CellState::kKnown)
-        map.setKnown(r, c, result.z, result.sigma);
+      if (hasHeight(result.state))
+        map.setHeight(r, c, result.state, result.z, result.sigma);
       else
         map.setUnobserved(r, c, result.state);
       if (result.state != CellState::kUnknown) z_guess = result.z;

@@ -32,7 +32,9 @@ struct LocusOptions {
 // interpolated from the four pixels around the intersection
 // (Lagrange, i.e. bilinear in phi and theta). A cell whose intersection lies
 // in a quad of pixels across an occluding edge is shadow; a cell whose line
-// leaves the image, or meets pixels without returns, is unknown. Elevations
+// leaves the image, or meets pixels without returns, is unknown; one in a
+// quad of ground seen at a grazing angle is oblique (OccludingEdgeOptions::
+// mark_grazing). Elevations
 // are in the world frame of image.sensor_to_world; sigma follows
 // docs/elevation-uncertainty.md.
 ElevationMap buildLocusMap(const sensor::RangeImage& image, const GridSpec& grid,

@@ -32,7 +32,7 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
     for (int c = 0; c < g.cols; ++c) {
       const int truth = true_state(r, c);
       const auto state = map.state(r, c);
-      if (truth == 0) ++visible_;
+      if (truth == 0) ++visible_, visible_oblique_ += state == CellState::kOblique;
       if (truth != 1) {
         const bool shadow = state == CellState::kShadow, occluded = truth == 2;
         shadow_hit_ += shadow && occluded;
@@ -72,6 +72,10 @@ std::optional<double> MapScore::rmse() const {
 }
 
 std::optional<double> MapScore::coverage() const { return ratio(double(visible_known_), visible_); }
+
+std::optional<double> MapScore::obliqueCoverage() const {
+  return ratio(double(visible_oblique_), visible_);
+}
 
 std::optional<double> MapScore::shadowRecall() const {
   return ratio(double(shadow_hit_), shadow_hit_ + shadow_missed_);

@@ -23,6 +23,9 @@ class MapScore {
   std::optional<double> rmse() const;
   // Fraction of the truly visible cells the map knows.
   std::optional<double> coverage() const;
+  // Fraction of the truly visible cells the map has as oblique: seen, but
+  // not to stand on.
+  std::optional<double> obliqueCoverage() const;
   // Over cells inside the field of view (true state 0 or 2): the fraction
   // of occluded cells marked shadow, and of shadow cells truly occluded.
   std::optional<double> shadowRecall() const;
@@ -49,7 +52,7 @@ class MapScore {
  private:
   double sum_sq_ = 0.0;
   long known_ = 0;
-  long visible_ = 0, visible_known_ = 0;
+  long visible_ = 0, visible_known_ = 0, visible_oblique_ = 0;
   long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
   long occluded_ = 0, occluded_found_ = 0, shadow_ = 0, shadow_right_ = 0;
   long occluded_known_ = 0, occluded_known_far_ = 0;

@@ -34,14 +34,15 @@ void mergeInto(ElevationMap& map, const ElevationMap& update) {
     const double z_b = update.elevation(ur, uc);
     const double s_b = std::max<double>(update.sigma(ur, uc), kMinSigma);
     const float n_b = update.count(ur, uc);
-    if (!map.isKnown(r, c)) {
-      map.setKnown(r, c, z_b, s_b, n_b);
+    if (!map.hasHeight(r, c)) {
+      map.setHeight(r, c, incoming, z_b, s_b, n_b);
       return;
     }
+    const auto state = map.isKnown(r, c) ? CellState::kKnown : incoming;
     const double s_a = std::max<double>(map.sigma(r, c), kMinSigma);
     const double w_a = 1.0 / (s_a * s_a), w_b = 1.0 / (s_b * s_b);
     const double z = (w_a * map.elevation(r, c) + w_b * z_b) / (w_a + w_b);
-    map.setKnown(r, c, z, 1.0 / std::sqrt(w_a + w_b), map.count(r, c) + n_b);
+    map.setHeight(r, c, state, z, 1.0 / std::sqrt(w_a + w_b), map.count(r, c) + n_b);
   });
 }
 

@@ -10,8 +10,9 @@ namespace ambler::terrain {
 // cell under its centre; where both know the height, the result is the
 // inverse-variance weighted mean, with 1/sigma^2 = 1/sigma_a^2 + 1/sigma_b^2
 // (sigmas below 1 micrometre count as 1 micrometre). A cell known in either
-// becomes known, so shadows seen from a later position are filled in; shadow
-// wins over unknown. Observation counts add. Throws std::invalid_argument
+// becomes known, so shadows seen from a later position are filled in; one
+// oblique in either and known in neither becomes oblique; shadow wins over
+// unknown. Observation counts add. Throws std::invalid_argument
 // when the frames differ.
 void mergeInto(ElevationMap& map, const ElevationMap& update);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace ambler::terrain {
 
@@ -51,6 +53,14 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       cols_(image.cols()),
       pixel_(std::size_t(rows_) * cols_, 0),
       quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
+  // An uncontinued weak jump counts as grazing, which is only right when it
+  // is beyond the grazing allowance too.
+  if (options.mark_grazing &&
+      options.grazing_noise_sigmas > std::min(options.weak_noise_sigmas, options.noise_sigmas))
+    throw std::invalid_argument(
+        "the grazing noise allowance (" + std::to_string(options.grazing_noise_sigmas) +
+        " sigma) must not exceed the weak edge allowance (" +
+        std::to_string(std::min(options.weak_noise_sigmas, options.noise_sigmas)) + " sigma)");
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,

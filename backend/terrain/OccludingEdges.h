@@ -25,11 +25,12 @@ struct OccludingEdgeOptions {
   double weak_noise_sigmas = 2.0;
   // Quads with a pair steeper than min_grazing_deg, beyond a noise
   // allowance, that is no edge are grazing (quadIsGrazing), and the locus
-  // map leaves their cells unknown: far fewer cells nobody saw are known,
-  // at the price of much oblique ground. Off by default: it costs the walk's
-  // scan matching on rock fields (README, elevation maps).
+  // map makes their cells oblique: they keep their heights for matching
+  // scans, but nobody stands on them. Off, those cells are known.
   bool mark_grazing = false;
-  double grazing_noise_sigmas = 1.0;  // the allowance, in std. dev. of the jump
+  // The allowance, in std. dev. of the jump; at most the weak allowance
+  // (the constructor throws std::invalid_argument otherwise).
+  double grazing_noise_sigmas = 1.0;
 };
 
 // The discontinuities of one range image, indexed by the image's quads: quad

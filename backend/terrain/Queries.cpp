@@ -10,7 +10,7 @@ HeightEstimate heightAt(const ElevationMap& map, double x, double y) {
   const auto cell = map.grid().cellAt(x, y);
   if (!cell) return {};
   const auto state = map.state(cell->row, cell->col);
-  if (state != CellState::kKnown) return {state};
+  if (!hasHeight(state)) return {state};
   return {state, map.elevation(cell->row, cell->col), map.sigma(cell->row, cell->col)};
 }
 
@@ -23,21 +23,23 @@ void RegionAccumulator::add(const ElevationMap& map, int r, int c) {
       ++s_.shadow;
       return;
     case CellState::kKnown:
+    case CellState::kOblique:
       break;
   }
   const double z = map.elevation(r, c), sigma = map.sigma(r, c);
-  s_.min_z = s_.known ? std::min(s_.min_z, z) : z;
-  s_.max_z = s_.known ? std::max(s_.max_z, z) : z;
-  ++s_.known;
+  const bool first = s_.withHeight() == 0;
+  s_.min_z = first ? z : std::min(s_.min_z, z);
+  s_.max_z = first ? z : std::max(s_.max_z, z);
+  ++(map.isKnown(r, c) ? s_.known : s_.oblique);
   sum_z_ += z;
   sum_var_ += sigma * sigma;
 }
 
 RegionSummary RegionAccumulator::result() const {
   RegionSummary s = s_;
-  if (s.known > 0) {
-    s.mean_z = sum_z_ / s.known;
-    s.mean_sigma = std::sqrt(sum_var_) / s.known;
+  if (const int n = s.withHeight(); n > 0) {
+    s.mean_z = sum_z_ / n;
+    s.mean_sigma = std::sqrt(sum_var_) / n;
   }
   return s;
 }
@@ -55,12 +57,13 @@ ElevationMap resample(const ElevationMap& map, double resolution) {
           map, Box2{centre.x() - h, centre.y() - h, centre.x() + h - 1e-9, centre.y() + h - 1e-9});
       if (s.cells() == 0) {
         const auto e = heightAt(map, centre.x(), centre.y());
-        if (e.state == CellState::kKnown)
-          out.setKnown(r, c, e.z, e.sigma);
+        if (hasHeight(e.state))
+          out.setHeight(r, c, e.state, e.z, e.sigma);
         else
           out.setUnobserved(r, c, e.state);
-      } else if (s.known > 0) {
-        out.setKnown(r, c, s.mean_z, s.mean_sigma, float(s.known));
+      } else if (s.withHeight() > 0) {
+        out.setHeight(r, c, s.known > 0 ? CellState::kKnown : CellState::kOblique, s.mean_z,
+                      s.mean_sigma, float(s.withHeight()));
       } else {
         out.setUnobserved(r, c, s.shadow > 0 ? CellState::kShadow : CellState::kUnknown);
       }

@@ -18,17 +18,20 @@ struct HeightEstimate {
 // The cell under (x, y); unknown outside the map.
 HeightEstimate heightAt(const ElevationMap& map, double x, double y);
 
-// The cells of a region, counted by state, and the heights of the known
-// ones: extremes, mean, and the sigma of that mean (independent cells).
+// The cells of a region, counted by state, and the heights of those that
+// have one (known and oblique): extremes, mean, and the sigma of that mean
+// (independent cells).
 struct RegionSummary {
   int known = 0;
   int unknown = 0;
   int shadow = 0;
+  int oblique = 0;
   double min_z = std::numeric_limits<double>::quiet_NaN();
   double max_z = std::numeric_limits<double>::quiet_NaN();
   double mean_z = std::numeric_limits<double>::quiet_NaN();
   double mean_sigma = std::numeric_limits<double>::quiet_NaN();
-  int cells() const { return known + unknown + shadow; }
+  int cells() const { return known + unknown + shadow + oblique; }
+  int withHeight() const { return known + oblique; }
 };
 
 class RegionAccumulator {
@@ -52,8 +55,8 @@ RegionSummary summarize(const ElevationMap& map, const Region& region) {
 // The map at another resolution over the same area: each new cell is the
 // summary of the source cells whose centres it covers (mean height, sigma
 // of the mean); a new cell covering no source centre (finer resolution)
-// copies the source cell under its own centre. Known wins over shadow,
-// shadow over unknown.
+// copies the source cell under its own centre. Known wins over oblique,
+// oblique over shadow, shadow over unknown.
 ElevationMap resample(const ElevationMap& map, double resolution);
 
 }  // namespace ambler::terrain

@@ -497,7 +497,9 @@ TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
     EXPECT_LT(locus["by_noise"][level]["rmse_m"].get<double>(),
               binning["by_noise"][level]["rmse_m"].get<double>())
         << level;
-  EXPECT_GT(locus["coverage"].get<double>(), 0.95);
+  EXPECT_GT(locus["coverage"].get<double>(), 0.9);
+  // What is seen but not known is oblique: grazing ground 15 m out.
+  EXPECT_GT(locus["coverage"].get<double>() + locus["oblique_coverage"].get<double>(), 0.95);
   EXPECT_GT(locus["shadow_recall"].get<double>(), 0.9);
   EXPECT_GT(locus["shadow_precision"].get<double>(), 0.9);
   EXPECT_GE(locus["shadow_recall_within_1_cell"].get<double>(),

@@ -5,9 +5,12 @@
 #include <optional>
 
 #include "InstalledConfig.h"
+#include "core/Region.h"
+#include "executive/Interlocks.h"
 #include "executive/WalkExecutive.h"
 #include "rover/InProcessLink.h"
 #include "rover/SimulatedRover.h"
+#include "terrain/Queries.h"
 
 namespace ambler::executive {
 namespace {
@@ -622,6 +625,50 @@ TEST(TaskTree, TasksStartInOrderAndSuspendTogether) {
   EXPECT_EQ(t.task(scan).status, TaskStatus::kDone);
   EXPECT_THROW(t.finish(plan, 4.0), std::logic_error);
   EXPECT_EQ(t.children(walk), (std::vector<int>{scan, plan}));
+}
+
+// Ground seen only at a grazing angle keeps its height (for scan matching)
+// but is no foothold: the planner looks elsewhere, and the interlock refuses
+// a foot set down there, naming the oblique cells.
+TEST(Executive, NoFootIsPlannedOrSentOntoGroundSeenOnlyObliquely) {
+  const gait::GaitContext ctx = ground();
+  terrain::ElevationMap map(GridSpec::covering({-12, -12, 12, 30}, 0.1));
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c) map.setKnown(r, c, 0.0, 0.01);
+  gait::Stance s = gait::nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  gait::StepPlan plan = gait::planStep(s, gait::Heading{}, map, ctx);
+  for (int i = 0; i < 4 && plan.ok && plan.leg < 0; ++i) {
+    s = plan.after;
+    plan = gait::planStep(s, gait::Heading{}, map, ctx);
+  }
+  ASSERT_TRUE(plan.ok) << plan.reason;
+  ASSERT_GE(plan.leg, 0);
+  auto footholdCheck = [&](const gait::StepPlan& p) {
+    const auto report = checkInterlocks(p, s, stepCommands(p, s), map, ctx);
+    for (const auto& check : report.checks)
+      if (check.name == "foothold terrain") return check;
+    ADD_FAILURE() << "no foothold terrain check";
+    return InterlockCheck{};
+  };
+  EXPECT_TRUE(footholdCheck(plan).passed) << footholdCheck(plan).detail;
+
+  const Disk around{plan.foothold.head<2>(), 0.6};
+  forEachCellIn(map.grid(), around, [&](int r, int c) {
+    map.setHeight(r, c, terrain::CellState::kOblique, 0.0, 0.01);
+  });
+  const auto refused = footholdCheck(plan);
+  EXPECT_FALSE(refused.passed);
+  EXPECT_NE(refused.detail.find(" oblique"), std::string::npos) << refused.detail;
+
+  const gait::StepPlan elsewhere = gait::planStep(s, gait::Heading{}, map, ctx);
+  ASSERT_TRUE(elsewhere.ok) << elsewhere.reason;
+  if (elsewhere.leg >= 0) {
+    const Disk foot{elsewhere.foothold.head<2>(), 0.5 * ctx.model.foot_diameter_m};
+    const auto under = terrain::summarize(map, foot);
+    EXPECT_EQ(under.oblique, 0);
+    EXPECT_GT(under.known, 0);
+    EXPECT_TRUE(footholdCheck(elsewhere).passed) << footholdCheck(elsewhere).detail;
+  }
 }
 
 }  // namespace

@@ -113,6 +113,52 @@ void expectRefused(const std::function<void(const std::filesystem::path&)>& spoi
   }
 }
 
+// Ground seen only at a grazing angle: a height for matching scans and for
+// clearances, never ground to stand on.
+TEST(ElevationMap, AnObliqueCellHasAHeightButIsNotKnown) {
+  auto map = rampMap();
+  map.setHeight(0, 3, CellState::kOblique, 3.0, 0.1);
+  for (int r : {2, 3})
+    for (int c : {0, 1}) map.setHeight(r, c, CellState::kOblique, r + c, 0.1);
+  EXPECT_FALSE(map.isKnown(0, 3));
+  EXPECT_TRUE(map.hasHeight(0, 3));
+  EXPECT_EQ(map.countOf(CellState::kOblique), 5);
+  EXPECT_THROW(map.setHeight(0, 0, CellState::kShadow, 1.0, 0.1), std::invalid_argument);
+
+  const auto e = heightAt(map, 3.5, 0.5);
+  EXPECT_EQ(e.state, CellState::kOblique);
+  EXPECT_DOUBLE_EQ(e.z, 3.0);
+  const auto s = summarize(map, Box2{2, 0, 4, 2});  // cells (0..1, 2..3)
+  EXPECT_EQ(s.known, 3);
+  EXPECT_EQ(s.oblique, 1);
+  EXPECT_DOUBLE_EQ(s.max_z, 4.0);
+  EXPECT_DOUBLE_EQ(s.mean_z, 3.0);
+
+  const auto coarse = resample(map, 2.0);
+  EXPECT_EQ(coarse.state(0, 1), CellState::kKnown);  // known wins over oblique
+  EXPECT_FLOAT_EQ(coarse.elevation(0, 1), 3.0f);
+  EXPECT_EQ(coarse.state(1, 0), CellState::kOblique);
+  EXPECT_FLOAT_EQ(coarse.elevation(1, 0), 3.0f);
+
+  TempDir dir;
+  writeElevationMap(map, dir.path());
+  const auto back = readElevationMap(dir.path());
+  EXPECT_EQ(back.state(0, 3), CellState::kOblique);
+  EXPECT_FLOAT_EQ(back.elevation(0, 3), 3.0f);
+  EXPECT_EQ(back.countOf(CellState::kOblique), 5);
+  auto z = io::readFloatTiff(dir / "elevation.tif");
+  z(0, 3) = NAN;
+  io::writeTiff(dir / "elevation.tif", z);
+  try {
+    readElevationMap(dir.path());
+    FAIL() << "read an oblique cell without a height";
+  } catch (const io::FormatError& error) {
+    EXPECT_NE(std::string(error.what()).find("cell (0, 3) is oblique but its elevation"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(ElevationMapFile, RefusesBrokenMapsNamingTheProblem) {
   namespace fs = std::filesystem;
   expectRefused([](const fs::path& d) { fs::remove(d / "map.json"); }, "map.json");

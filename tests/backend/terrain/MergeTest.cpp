@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <utility>
+
 #include "sim/ProceduralTerrain.h"
 #include "sim/ScannerSim.h"
 #include "terrain/Locus.h"
@@ -59,6 +62,30 @@ TEST(Merge, ShadowSeenFromASecondPositionBecomesKnown) {
   EXPECT_FLOAT_EQ(map.elevation(0, 1), 2.0f);
   EXPECT_EQ(map.state(1, 0), CellState::kShadow);  // shadow wins over unknown
   EXPECT_EQ(map.state(1, 1), CellState::kUnknown);
+}
+
+TEST(Merge, AnObliqueHeightIsFusedButOnlyAKnownOneMakesTheCellKnown) {
+  ElevationMap map(GridSpec::covering({0, 0, 1, 1}, 0.5));
+  map.setHeight(0, 0, CellState::kOblique, 1.0, 0.1);
+  map.setHeight(0, 1, CellState::kOblique, 1.0, 0.1);
+  map.setKnown(1, 0, 1.0, 0.1);
+  map.setUnobserved(1, 1, CellState::kShadow);
+  ElevationMap update(map.grid());
+  update.setKnown(0, 0, 2.0, 0.1);
+  update.setHeight(0, 1, CellState::kOblique, 2.0, 0.1);
+  update.setHeight(1, 0, CellState::kOblique, 2.0, 0.1);
+  update.setHeight(1, 1, CellState::kOblique, 3.0, 0.2);
+  mergeInto(map, update);
+  for (const auto& [r, c] : {std::pair{0, 0}, {0, 1}, {1, 0}}) {
+    EXPECT_FLOAT_EQ(map.elevation(r, c), 1.5f) << r << ", " << c;
+    EXPECT_NEAR(map.sigma(r, c), 0.1 / std::sqrt(2.0), 1e-6);
+    EXPECT_EQ(map.count(r, c), 2);
+  }
+  EXPECT_EQ(map.state(0, 0), CellState::kKnown);    // seen squarely once
+  EXPECT_EQ(map.state(0, 1), CellState::kOblique);  // never
+  EXPECT_EQ(map.state(1, 0), CellState::kKnown);
+  EXPECT_EQ(map.state(1, 1), CellState::kOblique);  // a height wins over shadow
+  EXPECT_FLOAT_EQ(map.elevation(1, 1), 3.0f);
 }
 
 TEST(Merge, RefusesMapsInDifferentFrames) {

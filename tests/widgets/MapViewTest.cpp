@@ -1,0 +1,65 @@
+// Widget test of the terrain map's cell states as an operator sees them;
+// needs a display (xvfb-run).
+#include <QApplication>
+#include <QImage>
+#include <QtTest/QtTest>
+
+#include "widgets/MapView.h"
+
+using ambler::GridSpec;
+using ambler::terrain::CellState;
+using ambler::terrain::ElevationMap;
+using ambler::widgets::MapView;
+
+class MapViewTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  // Ground seen only at a grazing angle has a height but is no foothold:
+  // the operator sees its height faded, a state of its own, and the hover
+  // readout says so.
+  void obliqueGroundIsShownAsSuchOnEveryLayer() {
+    // Heights rise with x; the band y in [1, 3) m is oblique, the rest known.
+    ElevationMap map(GridSpec::covering({-7, -7, 7, 7}, 0.1));
+    const auto& g = map.grid();
+    for (int r = 0; r < g.rows; ++r)
+      for (int c = 0; c < g.cols; ++c) {
+        const auto p = g.cellCenter(r, c);
+        const auto state = p.y() >= 1 && p.y() < 3 ? CellState::kOblique : CellState::kKnown;
+        map.setHeight(r, c, state, 0.1 * p.x(), 0.01);
+      }
+    MapView view;
+    view.resize(520, 520);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    view.setMap(map);
+    auto colourAt = [&](double x, double y) {
+      const QImage shot = view.grab().toImage();
+      return shot.pixelColor(view.widgetPointOf({x, y}).toPoint());
+    };
+    const QColor known = colourAt(2.0, -2.0), oblique = colourAt(2.0, 2.0);
+    QVERIFY(known != oblique);
+    // Faded: the same height, dimmer.
+    QVERIFY(oblique.valueF() < 0.8 * known.valueF());
+    QCOMPARE(colourAt(-2.0, 2.0) == oblique, false);  // still shows its height
+
+    view.setShown(MapView::Shown::kState);
+    const QColor known_state = colourAt(2.0, -2.0), oblique_state = colourAt(2.0, 2.0);
+    QVERIFY(known_state != oblique_state);
+    QCOMPARE(colourAt(-3.0, 1.5), oblique_state);
+
+    QTest::mouseMove(&view, view.widgetPointOf({2.0, 2.0}).toPoint());
+    QTRY_VERIFY(view.readout().contains("not to stand on"));
+    QVERIFY(view.readout().contains("sigma 0.010 m"));
+    QTest::mouseMove(&view, view.widgetPointOf({2.0, -2.0}).toPoint());
+    QTRY_VERIFY(!view.readout().contains("not to stand on"));
+  }
+};
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  MapViewTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "MapViewTest.moc"
