@@ -27,7 +27,7 @@ struct OccludingEdgeOptions {
   // allowance, that is no edge are grazing (quadIsGrazing), and the locus
   // map makes their cells oblique: they keep their heights for matching
   // scans, but nobody stands on them. Off, those cells are known.
-  bool mark_grazing = false;
+  bool mark_grazing = true;
   // The allowance, in std. dev. of the jump; at most the weak allowance
   // (the constructor throws std::invalid_argument otherwise).
   double grazing_noise_sigmas = 1.0;
