@@ -77,6 +77,9 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "noise allowance [std. dev.] before a pair counts as grazing")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--oblique-shadow-sides", locus.oblique_shadow_sides,
+                 "known cells beside a shadow across the line of sight are oblique (true/false)")
+      ->capture_default_str();
   cmd.add_option("--max-sample-spacing", locus.max_sample_spacing_m,
                  "cells between samples farther apart on the ground are unknown [m]; inf: off")
       ->check(CLI::PositiveNumber)

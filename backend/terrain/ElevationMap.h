@@ -13,8 +13,8 @@ namespace ambler::terrain {
 // What a map knows about a cell (krotkov1989 §3.2, fig. 6). The codes are
 // those of state.tif (docs/formats.md); the simulator's truth uses the
 // first three. An oblique cell has a height, but one interpolated between
-// samples of ground seen at a grazing angle, where what lies between them
-// was barely seen, if at all: good for matching scans and for clearances
+// samples of ground seen at a grazing angle or beside a shadow, where what
+// lies between them was barely seen, if at all: good for matching scans and for clearances
 // (the unseen ground lies below the line of sight), not to stand on.
 enum class CellState : std::uint8_t { kKnown = 0, kUnknown = 1, kShadow = 2, kOblique = 3 };
 

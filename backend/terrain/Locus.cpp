@@ -740,6 +740,35 @@ int nextInView(const LocusSolver& solver, const GridSpec& grid, int r, int c, do
   return grid.cols;
 }
 
+// A shadow's sides, where the occluder's silhouette ends and its range jump
+// fades below the edge test, are where interpolated heights meet unseen
+// ground: a known cell whose neighbour across the line of sight from
+// `sensor` (either side) is shadow becomes oblique, its height kept.
+void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor) {
+  const GridSpec& g = map.grid();
+  // Read as it changes: only known cells change, and only to oblique.
+  const Layer& state = map.layer(layer::kState);
+  // From each shadow cell to its known neighbours: far fewer than the
+  // known cells, most of which have no shadow near.
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      if (state(r, c) != float(CellState::kShadow)) continue;
+      for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j) {
+          const int nr = r + i, nc = c + j;
+          if (nr < 0 || nr >= g.rows || nc < 0 || nc >= g.cols ||
+              state(nr, nc) != float(CellState::kKnown))
+            continue;
+          const Eigen::Vector2d along = (g.cellCenter(nr, nc) - sensor).normalized();
+          // The unit step across the line of sight, rounded to a neighbour: (-y, x).
+          const int dr = int(std::lround(along.x())), dc = -int(std::lround(along.y()));
+          if ((i == dr && j == dc) || (i == -dr && j == -dc))
+            map.setHeight(nr, nc, CellState::kOblique, map.elevation(nr, nc), map.sigma(nr, nc),
+                          map.count(nr, nc));
+        }
+    }
+}
+
 }  // namespace
 
 ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
@@ -767,6 +796,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
       c = result.out_of_view ? nextInView(solver, grid, r, c + 1, z_guess) : c + 1;
     }
   }
+  if (options.oblique_shadow_sides)
+    markShadowSidesOblique(map, image.sensor_to_world.translation().head<2>());
   return map;
 }
 

@@ -20,6 +20,10 @@ struct LocusOptions {
   // distance between data points). The Ambler's foot is 0.3 m across: a
   // hole it could step into fits between sparser samples. INFINITY: off.
   double max_sample_spacing_m = 0.3;
+  // Known cells beside a shadow across the line of sight (its sides, where
+  // interpolation meets unseen ground) become oblique (README, elevation
+  // maps).
+  bool oblique_shadow_sides = true;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
 };
 

@@ -148,6 +148,30 @@ TEST(Locus, GroundBetweenSparseSamplesIsNotKnown) {
   EXPECT_GT(floor_known_before, 100);  // what the interpolation alone made of the trench
 }
 
+// A noise-free 256 x 256 scan of a terrain family's tuning seed from 1.5 m
+// up, tilted 12 degrees, the region's grid at 5 cm, and the truth of which
+// of its cells the scanner saw.
+struct LowScan {
+  Eigen::Vector3d at;
+  sensor::RangeImage image;
+  GridSpec grid;
+  sim::VisibilityTruth truth;
+};
+
+LowScan lowScan(sim::TerrainFamily family, unsigned seed, const Box2& region) {
+  const sim::ProceduralTerrain terrain(sim::makeFamilyTerrain(family, seed));
+  const sim::RayCaster caster(terrain);
+  auto m = scanner(0.0);
+  m.geometry = sensor::ScanGeometry::symmetric(256, 256, 30 * kDeg, 60 * kDeg);
+  m.mount_height = 1.5;
+  m.tilt = 12 * kDeg;
+  const Eigen::Vector3d at{0, 0, terrain.height(0, 0)};
+  const auto pose = m.mountPose(at);
+  const GridSpec grid = GridSpec::covering(region, 0.05);
+  return {at, sim::simulateScan(caster, m, pose, 1), grid,
+          sim::computeVisibility(caster, m, pose, grid)};
+}
+
 // Rough ground (a tuning seed) seen from 1.5 m: beyond about 8 m the rays
 // meet it at under 10 degrees, and swells hide pockets behind them that the
 // samples on either side, no steeper apart than the ground itself, do not
@@ -156,21 +180,14 @@ TEST(Locus, GroundBetweenSparseSamplesIsNotKnown) {
 // same heights, but none known; within 6 m, where level ground is seen at
 // over 14 degrees, most of the ground stays known.
 TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
-  const auto ground = sim::makeFamilyTerrain(sim::TerrainFamily::kRoughGround, 3);
-  const sim::ProceduralTerrain terrain(ground);
-  const sim::RayCaster caster(terrain);
-  auto m = scanner(0.0);
-  m.geometry = sensor::ScanGeometry::symmetric(256, 256, 30 * kDeg, 60 * kDeg);
-  m.mount_height = 1.5;
-  m.tilt = 12 * kDeg;
-  const auto pose = m.mountPose({0, 0, terrain.height(0, 0)});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
-  const GridSpec grid = GridSpec::covering({-8, 3, 8, 22}, 0.05);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto [at, image, grid, truth] =
+      lowScan(sim::TerrainFamily::kRoughGround, 3, {-8, 3, 8, 22});
 
   LocusOptions grazing_oblique, grazing_known;
   grazing_oblique.edges.mark_grazing = true;
   grazing_known.edges.mark_grazing = false;
+  // The grazing rule's alone (shadow sides: KnownCellsAtAShadowsSidesBecomeOblique).
+  grazing_oblique.oblique_shadow_sides = grazing_known.oblique_shadow_sides = false;
   const auto map = buildLocusMap(image, grid, grazing_oblique);
   const auto filled = buildLocusMap(image, grid, grazing_known);
   int occluded = 0, occluded_known = 0, occluded_filled = 0, occluded_oblique = 0;
@@ -203,6 +220,42 @@ TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
   // An uncontinued weak jump counts as grazing: only right within the weak allowance.
   grazing_oblique.edges.grazing_noise_sigmas = grazing_oblique.edges.weak_noise_sigmas + 1;
   EXPECT_THROW(buildLocusMap(image, grid, grazing_oblique), std::invalid_argument);
+}
+
+// A rock field (a tuning seed) seen from 1.5 m: where a rock's silhouette
+// ends, its range jump fades below the edge test, and the cells beside its
+// shadow are interpolated across ground nobody saw. Those cells become
+// oblique: every cell that changes was known, keeps its height, and has a
+// shadow beside it across the line of sight.
+TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
+  const auto [at, image, grid, truth] = lowScan(sim::TerrainFamily::kRockField, 2, {-8, 3, 8, 19});
+
+  LocusOptions plain;
+  plain.oblique_shadow_sides = false;
+  const auto before = buildLocusMap(image, grid, plain);
+  const auto after = buildLocusMap(image, grid);  // the default: sides oblique
+  int changed = 0, occluded_known_before = 0, occluded_known_after = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const bool occluded = truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
+      occluded_known_before += occluded && before.isKnown(r, c);
+      occluded_known_after += occluded && after.isKnown(r, c);
+      if (after.state(r, c) == before.state(r, c)) continue;
+      ++changed;
+      ASSERT_EQ(after.state(r, c), CellState::kOblique);
+      ASSERT_EQ(before.state(r, c), CellState::kKnown);
+      EXPECT_EQ(after.elevation(r, c), before.elevation(r, c));
+      const Eigen::Vector2d along = (grid.cellCenter(r, c) - at.head<2>()).normalized();
+      const int dr = int(std::lround(along.x())), dc = -int(std::lround(along.y()));
+      auto shadowAt = [&](int rr, int cc) {
+        return rr >= 0 && rr < grid.rows && cc >= 0 && cc < grid.cols &&
+               before.state(rr, cc) == CellState::kShadow;
+      };
+      EXPECT_TRUE(shadowAt(r + dr, c + dc) || shadowAt(r - dr, c - dc)) << r << ", " << c;
+    }
+  EXPECT_GT(changed, 100);
+  EXPECT_GT(occluded_known_before, 10);
+  EXPECT_LT(occluded_known_after, occluded_known_before / 2);  // 17 to 3
 }
 
 // (error / sigma)^2 summed over the known cells of a map of ground at z = 0;
