@@ -371,14 +371,12 @@ void MapView::mouseMoveEvent(QMouseEvent* e) {
         }
       switch (map_->state(r, c)) {
         case terrain::CellState::kKnown:
+        case terrain::CellState::kOblique:
           text += tr(" | elevation %1 m, sigma %2 m")
                       .arg(map_->elevation(r, c), 0, 'f', 3)
                       .arg(map_->sigma(r, c), 0, 'f', 3);
-          break;
-        case terrain::CellState::kOblique:
-          text += tr(" | elevation %1 m, sigma %2 m, seen at a grazing angle: not to stand on")
-                      .arg(map_->elevation(r, c), 0, 'f', 3)
-                      .arg(map_->sigma(r, c), 0, 'f', 3);
+          // Grazing ground or a shadow's side: what lies between its samples was barely seen.
+          if (!map_->isKnown(r, c)) text += tr(", seen obliquely: not to stand on");
           break;
         case terrain::CellState::kShadow:
           text += tr(" | range shadow");

@@ -21,7 +21,7 @@ struct JumpTest {
   double noise_sigmas;
   double k;
 
-  double weak_sigmas;
+  double weak_sigmas;  // at most noise_sigmas
   double grazing_sigmas;
 
   // 2: a discontinuity; 1: one only within the weak noise allowance; 3:
@@ -33,7 +33,7 @@ struct JumpTest {
     const double smooth = std::max(grazing, step_ratio * near_slope);
     const double jump = std::abs(a - b);
     if (jump > smooth + noise_sigmas * sigma) return 2;
-    if (jump > smooth + std::min(weak_sigmas, noise_sigmas) * sigma) return 1;
+    if (jump > smooth + weak_sigmas * sigma) return 1;
     return jump > grazing + grazing_sigmas * sigma ? 3 : 0;
   }
 };
@@ -55,18 +55,18 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
   // An uncontinued weak jump counts as grazing, which is only right when it
   // is beyond the grazing allowance too.
-  if (options.mark_grazing &&
-      options.grazing_noise_sigmas > std::min(options.weak_noise_sigmas, options.noise_sigmas))
-    throw std::invalid_argument(
-        "the grazing noise allowance (" + std::to_string(options.grazing_noise_sigmas) +
-        " sigma) must not exceed the weak edge allowance (" +
-        std::to_string(std::min(options.weak_noise_sigmas, options.noise_sigmas)) + " sigma)");
+  const double weak_sigmas = std::min(options.weak_noise_sigmas, options.noise_sigmas);
+  if (options.mark_grazing && options.grazing_noise_sigmas > weak_sigmas)
+    throw std::invalid_argument("the grazing noise allowance (" +
+                                std::to_string(options.grazing_noise_sigmas) +
+                                " sigma) must not exceed the weak edge allowance (" +
+                                std::to_string(weak_sigmas) + " sigma)");
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
                        options.noise_sigmas,
                        image.range_sigma_k,
-                       options.weak_noise_sigmas,
+                       weak_sigmas,
                        options.grazing_noise_sigmas};
   // Angular separation of neighbours: a column step turns the ray by
   // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
