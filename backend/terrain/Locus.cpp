@@ -117,6 +117,9 @@ struct CellResult {
   // Unknown because the line's first point is off the image: the cell is
   // out of the field of view.
   bool out_of_view = false;
+  // The fractional image row where the line met the surface; NaN where the
+  // walk found no crossing.
+  double row = NAN;
 };
 
 // The heights of the line over which Delta is within the noise of zero.
@@ -176,8 +179,10 @@ class LocusSolver {
   // where the search of the first cell of each map row starts.
   double typicalHeight() const { return typical_height_; }
 
-  // Starts the search where the line is at height `z_guess`.
-  CellResult solve(double x, double y, double z_guess) const;
+  // Starts the search at image row `row_hint`, where the neighbouring
+  // cell's line met the surface, or if that is NaN where the line is at
+  // height `z_guess` (which takes an inverse tangent: a twentieth of a map).
+  CellResult solve(double x, double y, double z_guess, double row_hint) const;
   // Whether the search for the cell at (x, y) would start on the image:
   // solve()'s first step alone.
   bool startsInView(double x, double y, double z_guess) const;
@@ -338,7 +343,7 @@ bool LocusSolver::startsInView(double x, double y, double z_guess) const {
   return pointAt(line, startRow(line, z_guess)).on_image;
 }
 
-CellResult LocusSolver::solve(double x, double y, double z_guess) const {
+CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hint) const {
   const Line line = lineThrough(x, y);
   // Which row step lowers the line point: dt/dphi has the sign of
   // (a_y b_z - a_z b_y) between the poles of eq. 2.
@@ -347,7 +352,8 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   Bracket bracket;
   double stop_t = NAN;
   bool out_of_view = false;
-  const auto found = walk(line, down, startRow(line, z_guess), bracket, stop_t, out_of_view);
+  const int start = std::isnan(row_hint) ? startRow(line, z_guess) : int(row_hint + 0.5);
+  const auto found = walk(line, down, start, bracket, stop_t, out_of_view);
   if (found != CellState::kKnown) {
     CellResult r{found, stop_t};
     r.out_of_view = out_of_view;
@@ -365,10 +371,14 @@ CellResult LocusSolver::solve(double x, double y, double z_guess) const {
   // band.
   const Band band = followBand(line, down, bracket, result.noise.above, result.noise.below);
   const double pixel_sigma = sensor::rangeSigma(bracket.upper.at.rho, image_.range_sigma_k);
-  const double explained = std::max(
-      result.noise.significant ? 6 * pixel_sigma * result.noise.height_per_range : 0.0,
-      band.explainedByNoise(pixel_sigma, std::abs(bracket.lower.at.t - bracket.upper.at.t)));
-  const double excess = band.height() - explained;
+  const double by_crossing =
+      result.noise.significant ? 6 * pixel_sigma * result.noise.height_per_range : 0.0;
+  // The band's own slope (two divisions and a root) only where the
+  // crossing's does not explain the band already, as it mostly does.
+  if (band.height() <= by_crossing) return result;
+  const double height_per_row = std::abs(bracket.lower.at.t - bracket.upper.at.t);
+  const double excess =
+      band.height() - std::max(by_crossing, band.explainedByNoise(pixel_sigma, height_per_row));
   if (excess > 0) {
     result.z = 0.5 * (band.top + band.bottom);
     result.sigma = std::sqrt(result.sigma * result.sigma + excess * excess / 12);
@@ -510,7 +520,9 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
   const double sd = d * (1 - d2 / 6), cd = 1 - d2 / 2 + d2 * d2 / 24;  // |d| < 1e-3
   const double s = sin_lo * cd + cos_lo * sd, c = cos_lo * cd - sin_lo * sd;
   const double t = (line.a.y() * s - line.a.z() * c) / (line.b.z() * c - line.b.y() * s);
-  return finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);
+  CellResult result = finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);
+  result.row = br.upper.row + (u + w) * (br.lower.row - br.upper.row);
+  return result;
 }
 
 // Shadow, face, oblique or known; for a cell with a height, its sigma.
@@ -785,9 +797,11 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
 #pragma omp parallel for schedule(dynamic, 8) num_threads(threads)
   for (int r = 0; r < grid.rows; ++r) {
     double z_guess = start_z;  // neighbouring cells have similar heights
+    double row_hint = NAN;
     for (int c = 0; c < grid.cols;) {
       const auto p = grid.cellCenter(r, c);
-      const auto result = solver.solve(p.x(), p.y(), z_guess);
+      const auto result = solver.solve(p.x(), p.y(), z_guess, row_hint);
+      row_hint = result.row;
       if (hasHeight(result.state))
         map.setHeight(r, c, result.state, result.z, result.sigma);
       else
