@@ -12,6 +12,7 @@
 #include "sensor/StriperImageFile.h"
 #include "sim/CourseScene.h"
 #include "sim/StriperSim.h"
+#include "sim/TerrainFamilies.h"
 
 namespace ambler::cli {
 
@@ -23,6 +24,7 @@ constexpr Box2 kModelRegion{-30.0, -30.0, 30.0, 30.0};
 
 struct SimScanArgs {
   std::uint64_t seed = 1;
+  std::string family = "course";
   std::string out;
   std::string config;
   std::optional<double> tilt_deg, height_m, noise_k;
@@ -60,7 +62,10 @@ void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& 
 void runSimScan(const SimScanArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const auto at = parseNumbers(a.at, 3, "--at", "X,Y,HEADING_DEG");
-  const sim::CourseScene scene(a.seed, scannerModel(a), {at[0], at[1]}, at[2] * kDeg);
+  const auto family = sim::parseFamily(a.family);
+  if (!family) throw CLI::ValidationError("--family", "unknown terrain family '" + a.family + "'");
+  const sim::CourseScene scene(sim::makeFamilyTerrain(*family, a.seed), scannerModel(a),
+                               {at[0], at[1]}, at[2] * kDeg);
   const auto scan_start = std::chrono::steady_clock::now();
   const auto scan = scene.scan(a.seed);
   const double scan_ms = millisecondsSince(scan_start);
@@ -113,8 +118,11 @@ void runSimScan(const SimScanArgs& a) {
 void addSimScan(CLI::App& app) {
   auto args = std::make_shared<SimScanArgs>();
   auto* cmd = app.add_subcommand(
-      "sim-scan", "Simulate one laser range image of the obstacle course, with ground truth");
+      "sim-scan", "Simulate one laser range image of a terrain family, with ground truth");
   cmd->add_option("--seed", args->seed, "terrain and noise seed")->capture_default_str();
+  cmd->add_option("--family", args->family,
+                  "terrain family: course, rocks, craters, rough, negative, slope")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder")->required();
   cmd->add_option("--config", args->config, "scanner model JSON (default: config/scanner.json)");
   cmd->add_option("--tilt", args->tilt_deg, "boresight depression [deg]")

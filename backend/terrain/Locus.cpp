@@ -172,7 +172,8 @@ PixelTable rowTable(const sensor::ScanGeometry& g) {
 
 class LocusSolver {
  public:
-  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+  LocusSolver(const RangeImage& image, const OccludingEdges& edges,
+              const OccludingEdgeOptions& edge_options, double epsilon_rad,
               double max_sample_spacing_m);
 
   // Median world height of the image's points (every 4th row and column):
@@ -191,8 +192,8 @@ class LocusSolver {
   LocusPoint pointAt(const Line& line, int row) const;
   RowSample sampleRow(const Line& line, int row) const;
   int startRow(const Line& line, double z) const;
-  CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
-                 bool& out_of_view) const;
+  CellState walk(const Line& line, int down, int row, double reach, Bracket& bracket,
+                 double& stop_t, bool& out_of_view) const;
   Line lineThrough(double x, double y) const {
     return {world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
   }
@@ -215,6 +216,7 @@ class LocusSolver {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
   void markSparseQuads(double max_spacing_m);
+  void findBorderGround(const OccludingEdgeOptions& edge_options);
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
@@ -247,9 +249,14 @@ class LocusSolver {
   std::vector<std::uint8_t> near_edge_;
   // Per quad: its scanlines meet the ground farther apart than the limit.
   std::vector<std::uint8_t> sparse_;
+  // Per image column, for the first and the last scanline: the horizontal
+  // distance from the sensor at which it meets the ground [m], NaN where the
+  // whole border has no ground (findBorderGround()).
+  std::array<std::vector<double>, 2> border_reach_;
 };
 
-LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
+LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges,
+                         const OccludingEdgeOptions& edge_options, double epsilon_rad,
                          double max_sample_spacing_m)
     : image_(image),
       edges_(edges),
@@ -307,6 +314,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
                       across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
     }
   markSparseQuads(max_sample_spacing_m);
+  findBorderGround(edge_options);
   last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
@@ -353,7 +361,8 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   double stop_t = NAN;
   bool out_of_view = false;
   const int start = std::isnan(row_hint) ? startRow(line, z_guess) : int(row_hint + 0.5);
-  const auto found = walk(line, down, start, bracket, stop_t, out_of_view);
+  const auto found = walk(line, down, start, std::hypot(x - origin_.x(), y - origin_.y()), bracket,
+                          stop_t, out_of_view);
   if (found != CellState::kKnown) {
     CellResult r{found, stop_t};
     r.out_of_view = out_of_view;
@@ -433,8 +442,8 @@ int LocusSolver::startRow(const Line& line, double z) const {
 // Scanline bracketing: from the start row, walk down the line while it is
 // in front of the surface, or up while it is behind, until the sign of
 // Delta changes between adjacent scanlines.
-CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
-                            bool& out_of_view) const {
+CellState LocusSolver::walk(const Line& line, int down, int row, double reach, Bracket& bracket,
+                            double& stop_t, bool& out_of_view) const {
   RowSample s = sampleRow(line, row);
   out_of_view = !s.at.on_image;
   if (!s.ok) return CellState::kUnknown;
@@ -449,13 +458,105 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
     s = n;
   }
   // The line left the image without meeting the surface. Below the image it
-  // is out of view. Above it, the line was hidden all the way: if the ground
-  // under it is at a typical height it would have been in view, so
-  // something occludes it (a tall obstacle near the far edge); otherwise it
-  // is beyond the far edge.
+  // is out of view. Above it, the line was hidden all the way. Nearer than
+  // where the border scanline meets the ground, its ground would have been
+  // in view, so something occludes it (a tall obstacle near the far edge);
+  // beyond, nothing tells whether its ground is in the field of view.
+  // Without ground at the border, the ground is taken at the image's
+  // typical height, which would have been in view below the line's exit.
   if (s.delta < 0) return CellState::kUnknown;
   stop_t = s.at.t;
-  return s.at.t > typical_height_ ? CellState::kShadow : CellState::kUnknown;
+  const int c = std::clamp(int(s.at.col + 0.5), 0, g_.cols - 1);
+  const double border = border_reach_[s.row == 0 ? 0 : 1][std::size_t(c)];
+  const bool hidden = std::isnan(border) ? s.at.t > typical_height_ : reach < border;
+  return hidden ? CellState::kShadow : CellState::kUnknown;
+}
+
+// Where each border scanline meets the ground, column by column: the
+// border pixel's horizontal reach where it and the pixel two scanlines in
+// are ground (returns, in quads that are neither occluding edges nor steep
+// faces), less two standard deviations of its range noise; a column without
+// ground takes that of the nearest column with ground on the same surface.
+// The border splits into surfaces where the range jumps between
+// neighbouring columns by more than the occluding edges' test allows. A
+// surface nearer than the surfaces on both its sides (on the one side at
+// the image's edge) is an obstacle standing up into the last scanline, its
+// top say: what it hides lies before the ground beside it, whose reach it
+// takes, interpolated across it from one side to the other.
+void LocusSolver::findBorderGround(const OccludingEdgeOptions& edge_options) {
+  const int cols = g_.cols;
+  const double k = image_.range_sigma_k;
+  // A continuous surface seen at the least grazing angle changes range by
+  // this share of the range from one column to the next.
+  const double step = std::abs(g_.theta_step) / std::tan(edge_options.min_grazing_deg * M_PI / 180);
+  for (int b = 0; b < 2; ++b) {
+    auto& reach = border_reach_[std::size_t(b)];
+    reach.assign(std::size_t(cols), NAN);
+    if (g_.rows < 3 || cols < 2) continue;
+    const int border = b == 0 ? 0 : g_.rows - 1, in = b == 0 ? 2 : g_.rows - 3;
+    for (int c = 0; c < cols; ++c) {
+      const int qc = std::min(c, cols - 2);
+      bool ground = true;
+      for (int r = std::min(border, in); r <= std::max(border, in); ++r)
+        ground = ground && hasReturn(r, qc) && hasReturn(r, qc + 1);
+      for (int qr = std::min(border, in); ground && qr < std::max(border, in); ++qr)
+        ground = !edges_.quadIsEdge(qr, qc) && !isSteepFace(qr, qc);
+      if (!ground) continue;
+      const auto& p = world_[std::size_t(border) * cols + c];
+      const double rho = image_.at(border, c);
+      reach[std::size_t(c)] =
+          (p.head<2>() - origin_.head<2>().cast<float>()).norm() - 2 * k * rho * rho;
+    }
+    // The surfaces: runs of columns [first, last] with continuous ranges.
+    auto continuous = [&](int c) {  // columns c and c + 1
+      if (!hasReturn(border, c) || !hasReturn(border, c + 1)) return false;
+      const double a = image_.at(border, c), z = image_.at(border, c + 1);
+      const double noise = edge_options.noise_sigmas * k * std::hypot(a * a, z * z);
+      return std::abs(a - z) <= std::max(a, z) * step + noise;
+    };
+    struct Surface {
+      int first, last;
+    };
+    std::vector<Surface> surfaces;
+    for (int c = 0; c < cols; ++c)
+      if (c == 0 || !continuous(c - 1))
+        surfaces.push_back({c, c});
+      else
+        surfaces.back().last = c;
+    // Within a surface, columns without ground take the nearest ground's reach.
+    const auto ground = reach;
+    for (const auto& f : surfaces)
+      for (int c = f.first; c <= f.last; ++c) {
+        if (!std::isnan(ground[std::size_t(c)])) continue;
+        for (int d = 1; c - d >= f.first || c + d <= f.last; ++d) {
+          const int nearer = c - d >= f.first && !std::isnan(ground[std::size_t(c - d)]) ? c - d
+                             : c + d <= f.last                                           ? c + d
+                                                                                         : c;
+          if (std::isnan(ground[std::size_t(nearer)])) continue;
+          reach[std::size_t(c)] = ground[std::size_t(nearer)];
+          break;
+        }
+      }
+    const auto own = reach;
+    auto nearerThan = [&](int c, int beside) {  // column c's range below its neighbour's
+      return hasReturn(border, c) &&
+             (!hasReturn(border, beside) || image_.at(border, c) < image_.at(border, beside));
+    };
+    for (std::size_t i = 0; i < surfaces.size(); ++i) {
+      const auto& f = surfaces[i];
+      const bool left = i > 0, right = i + 1 < surfaces.size();
+      if (!left && !right) continue;
+      if ((left && !nearerThan(f.first, f.first - 1)) || (right && !nearerThan(f.last, f.last + 1)))
+        continue;
+      // The ground beside it, across it from one side to the other.
+      const double a = left ? own[std::size_t(f.first - 1)] : NAN;
+      const double z = right ? own[std::size_t(f.last + 1)] : NAN;
+      for (int c = f.first; c <= f.last; ++c) {
+        const double w = double(c - f.first + 1) / (f.last - f.first + 2);
+        reach[std::size_t(c)] = std::isnan(a) ? z : std::isnan(z) ? a : a + w * (z - a);
+      }
+    }
+  }
 }
 
 // Binary search on phi between the bracketing scanlines (krotkov1989
@@ -790,7 +891,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
-  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m);
+  const LocusSolver solver(image, edges, options.edges, epsilon, options.max_sample_spacing_m);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 

@@ -69,6 +69,19 @@ TEST(Cli, SimScanWritesScanAndGroundTruthThatInfoDescribes) {
   EXPECT_GT(counts[2], 0);  // rocks and obstacles casting shadows,
   EXPECT_GT(counts[1], 0);  // and the footprint's corners are outside the fan
 
+  // Any terrain family: the slope family's ground rises 10-30 degrees across
+  // the footprint, several metres where the course is within a metre of level.
+  TempDir sloped;
+  ASSERT_EQ(runCli("sim-scan --family slope --seed 2 --rows 32 --cols 32 --resolution 0.5 --out " +
+                   sloped.path().string())
+                .exit_code,
+            0);
+  const auto slope_z = ambler::io::readFloatTiff(sloped / "truth_z.tif");
+  float lo = INFINITY, hi = -INFINITY;
+  for (const float z : slope_z.pixels)
+    if (std::isfinite(z)) lo = std::min(lo, z), hi = std::max(hi, z);
+  EXPECT_GT(hi - lo, 3.0f);
+
   const auto info = runCli("info " + (dir / "scan.tif").string());
   ASSERT_EQ(info.exit_code, 0) << info.out;
   const auto described = nlohmann::json::parse(info.out);
@@ -389,6 +402,11 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
   const auto out_of_range = runCli("sim-scan --out " + dir.path().string() + " --tilt 95");
   EXPECT_NE(out_of_range.exit_code, 0);
   EXPECT_NE(out_of_range.out.find("--tilt"), std::string::npos) << out_of_range.out;
+
+  const auto bad_family = runCli("sim-scan --out " + dir.path().string() + " --family dunes");
+  EXPECT_NE(bad_family.exit_code, 0);
+  EXPECT_NE(bad_family.out.find("unknown terrain family 'dunes'"), std::string::npos)
+      << bad_family.out;
 
   EXPECT_NE(runCli("info " + (dir / "nothing.xyz").string()).out.find("unknown kind"),
             std::string::npos);

@@ -108,6 +108,63 @@ TEST(Locus, CellsOutsideTheFieldOfViewAreUnknown) {
   EXPECT_EQ(map.countOf(CellState::kUnknown), map.grid().cellCount());
 }
 
+// Ground rising away from the sensor (17 degrees) meets the scanner's top
+// scanline 8.8 m off; beyond, it rises above the field of view. The lines
+// through those cells leave the top of the image hidden, as behind an
+// obstacle, but the ground there is higher than the image's typical height:
+// it is out of view, not shadow.
+TEST(Locus, RisingGroundBeyondTheFarEdgeIsNotShadow) {
+  const PlaneTerrain plane(0, 0.3, 0);
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(0.0);
+  const auto pose = m.mountPose({0, 0, 0});
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const GridSpec grid = GridSpec::covering({-3, 4, 3, 16}, 0.1);
+  const auto map = buildLocusMap(image, grid);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  int beyond = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (truth.state(r, c) == 1 && grid.cellCenter(r, c).y() > 8) {
+        ++beyond;
+        EXPECT_NE(map.state(r, c), CellState::kShadow) << grid.cellCenter(r, c).transpose();
+      }
+  EXPECT_GT(beyond, 1000);
+}
+
+// A 4 m tall box 14 m off: the scanner's top scanline meets its face, so
+// the lines through the ground behind it leave the top of the image
+// hidden. The box is nearer than the ground the top scanline meets on
+// either side of it, 18.7 m off: every cell behind it up to there is
+// shadow. Flat ground beyond the far edge beside the box is out of view.
+TEST(Locus, GroundBehindATallObstacleAtTheFarEdgeIsShadow) {
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::BoxObstacle{{0.0, 14.0, 0.0, 1.0, 0.25}, 4.0});
+  const sim::ProceduralTerrain ground(d);
+  const sim::RayCaster caster(ground);
+  const auto m = scanner(0.0);
+  const auto pose = m.mountPose({0, 0, 0});
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const GridSpec grid = GridSpec::covering({-4, 12, 4, 21}, 0.1);
+  const auto map = buildLocusMap(image, grid);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  for (double y = 14.5; y < 18.5; y += 0.1) {
+    const auto cell = grid.cellAt(0.05, y);
+    ASSERT_TRUE(cell);
+    EXPECT_EQ(truth.state(cell->row, cell->col), 2) << y;
+    EXPECT_EQ(map.state(cell->row, cell->col), CellState::kShadow) << y;
+  }
+  int beside = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (truth.state(r, c) == 1 && std::abs(grid.cellCenter(r, c).x()) > 2.5) {
+        ++beside;
+        EXPECT_NE(map.state(r, c), CellState::kShadow) << grid.cellCenter(r, c).transpose();
+      }
+  EXPECT_GT(beside, 100);
+}
+
 // krotkov1989 §3.2, note 5: far from a low sensor the scanlines meet the
 // ground about 0.9 m apart at y = 18 m (1.5 m high, 0.23 deg between
 // scanlines), so a 0.6 m trench there falls between two samples without a
