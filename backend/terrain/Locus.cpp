@@ -192,8 +192,8 @@ class LocusSolver {
   LocusPoint pointAt(const Line& line, int row) const;
   RowSample sampleRow(const Line& line, int row) const;
   int startRow(const Line& line, double z) const;
-  CellState walk(const Line& line, int down, int row, double reach, Bracket& bracket,
-                 double& stop_t, bool& out_of_view) const;
+  CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
+                 bool& out_of_view) const;
   Line lineThrough(double x, double y) const {
     return {world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
   }
@@ -361,8 +361,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   double stop_t = NAN;
   bool out_of_view = false;
   const int start = std::isnan(row_hint) ? startRow(line, z_guess) : int(row_hint + 0.5);
-  const auto found = walk(line, down, start, std::hypot(x - origin_.x(), y - origin_.y()), bracket,
-                          stop_t, out_of_view);
+  const auto found = walk(line, down, start, bracket, stop_t, out_of_view);
   if (found != CellState::kKnown) {
     CellResult r{found, stop_t};
     r.out_of_view = out_of_view;
@@ -442,8 +441,8 @@ int LocusSolver::startRow(const Line& line, double z) const {
 // Scanline bracketing: from the start row, walk down the line while it is
 // in front of the surface, or up while it is behind, until the sign of
 // Delta changes between adjacent scanlines.
-CellState LocusSolver::walk(const Line& line, int down, int row, double reach, Bracket& bracket,
-                            double& stop_t, bool& out_of_view) const {
+CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
+                            bool& out_of_view) const {
   RowSample s = sampleRow(line, row);
   out_of_view = !s.at.on_image;
   if (!s.ok) return CellState::kUnknown;
@@ -468,6 +467,8 @@ CellState LocusSolver::walk(const Line& line, int down, int row, double reach, B
   stop_t = s.at.t;
   const int c = std::clamp(int(s.at.col + 0.5), 0, g_.cols - 1);
   const double border = border_reach_[s.row == 0 ? 0 : 1][std::size_t(c)];
+  // The line's foot is the sensor's origin plus the turned a.
+  const double reach = (world_to_sensor_.transpose() * line.a).head<2>().norm();
   const bool hidden = std::isnan(border) ? s.at.t > typical_height_ : reach < border;
   return hidden ? CellState::kShadow : CellState::kUnknown;
 }
