@@ -108,28 +108,46 @@ TEST(Locus, CellsOutsideTheFieldOfViewAreUnknown) {
   EXPECT_EQ(map.countOf(CellState::kUnknown), map.grid().cellCount());
 }
 
+// A noise-free scan of `terrain` by the test scanner at the origin: its
+// locus map on `grid` and the truth of what the scanner saw there.
+struct MappedScan {
+  ElevationMap map;
+  sim::VisibilityTruth truth;
+};
+MappedScan scanAndMap(const sim::Terrain& terrain, const GridSpec& grid) {
+  const sim::RayCaster caster(terrain);
+  const auto m = scanner(0.0);
+  const auto pose = m.mountPose({0, 0, 0});
+  return {buildLocusMap(sim::simulateScan(caster, m, pose, 1), grid),
+          sim::computeVisibility(caster, m, pose, grid)};
+}
+
+// Every cell the truth has out of view and `where` picks is not shadow;
+// returns how many it picked.
+template <class Where>
+int expectOutOfViewIsNotShadow(const ElevationMap& map, const sim::VisibilityTruth& truth,
+                               Where&& where) {
+  const GridSpec& grid = map.grid();
+  int picked = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (truth.state(r, c) == std::uint8_t(sim::Visibility::kOutsideView) &&
+          where(grid.cellCenter(r, c))) {
+        ++picked;
+        EXPECT_NE(map.state(r, c), CellState::kShadow) << grid.cellCenter(r, c).transpose();
+      }
+  return picked;
+}
+
 // Ground rising away from the sensor (17 degrees) meets the scanner's top
 // scanline 8.8 m off; beyond, it rises above the field of view. The lines
 // through those cells leave the top of the image hidden, as behind an
 // obstacle, but the ground there is higher than the image's typical height:
 // it is out of view, not shadow.
 TEST(Locus, RisingGroundBeyondTheFarEdgeIsNotShadow) {
-  const PlaneTerrain plane(0, 0.3, 0);
-  const sim::RayCaster caster(plane);
-  const auto m = scanner(0.0);
-  const auto pose = m.mountPose({0, 0, 0});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
-  const GridSpec grid = GridSpec::covering({-3, 4, 3, 16}, 0.1);
-  const auto map = buildLocusMap(image, grid);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
-  int beyond = 0;
-  for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c)
-      if (truth.state(r, c) == 1 && grid.cellCenter(r, c).y() > 8) {
-        ++beyond;
-        EXPECT_NE(map.state(r, c), CellState::kShadow) << grid.cellCenter(r, c).transpose();
-      }
-  EXPECT_GT(beyond, 1000);
+  const auto [map, truth] =
+      scanAndMap(PlaneTerrain(0, 0.3, 0), GridSpec::covering({-3, 4, 3, 16}, 0.1));
+  EXPECT_GT(expectOutOfViewIsNotShadow(map, truth, [](const auto& p) { return p.y() > 8; }), 1000);
 }
 
 // A 4 m tall box 14 m off: the scanner's top scanline meets its face, so
@@ -141,28 +159,17 @@ TEST(Locus, GroundBehindATallObstacleAtTheFarEdgeIsShadow) {
   sim::TerrainDescription d;
   d.extent = {-100, -100, 100, 100};
   d.features.push_back(sim::BoxObstacle{{0.0, 14.0, 0.0, 1.0, 0.25}, 4.0});
-  const sim::ProceduralTerrain ground(d);
-  const sim::RayCaster caster(ground);
-  const auto m = scanner(0.0);
-  const auto pose = m.mountPose({0, 0, 0});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
-  const GridSpec grid = GridSpec::covering({-4, 12, 4, 21}, 0.1);
-  const auto map = buildLocusMap(image, grid);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto [map, truth] =
+      scanAndMap(sim::ProceduralTerrain(d), GridSpec::covering({-4, 12, 4, 21}, 0.1));
   for (double y = 14.5; y < 18.5; y += 0.1) {
-    const auto cell = grid.cellAt(0.05, y);
+    const auto cell = map.grid().cellAt(0.05, y);
     ASSERT_TRUE(cell);
-    EXPECT_EQ(truth.state(cell->row, cell->col), 2) << y;
+    EXPECT_EQ(truth.state(cell->row, cell->col), std::uint8_t(sim::Visibility::kOccluded)) << y;
     EXPECT_EQ(map.state(cell->row, cell->col), CellState::kShadow) << y;
   }
-  int beside = 0;
-  for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c)
-      if (truth.state(r, c) == 1 && std::abs(grid.cellCenter(r, c).x()) > 2.5) {
-        ++beside;
-        EXPECT_NE(map.state(r, c), CellState::kShadow) << grid.cellCenter(r, c).transpose();
-      }
-  EXPECT_GT(beside, 100);
+  EXPECT_GT(
+      expectOutOfViewIsNotShadow(map, truth, [](const auto& p) { return std::abs(p.x()) > 2.5; }),
+      100);
 }
 
 // krotkov1989 §3.2, note 5: far from a low sensor the scanlines meet the
