@@ -182,7 +182,7 @@ class LocusSolver {
 
   // Starts the search at image row `row_hint`, where the neighbouring
   // cell's line met the surface, or if that is NaN where the line is at
-  // height `z_guess` (which takes an inverse tangent: a twentieth of a map).
+  // height `z_guess` (which takes an inverse tangent).
   CellResult solve(double x, double y, double z_guess, double row_hint) const;
   // Whether the search for the cell at (x, y) would start on the image:
   // solve()'s first step alone.
@@ -524,19 +524,21 @@ void LocusSolver::findBorderGround(const OccludingEdgeOptions& edge_options) {
         surfaces.push_back({c, c});
       else
         surfaces.back().last = c;
-    // Within a surface, columns without ground take the nearest ground's reach.
+    // Within a surface, columns without ground take the nearest ground's
+    // reach (the left one on a tie): the nearest ground column to the left,
+    // then to the right, each found in one pass.
     const auto ground = reach;
+    const auto hasGround = [&](int c) { return !std::isnan(ground[std::size_t(c)]); };
+    std::vector<int> left(std::size_t(cols), -1);
     for (const auto& f : surfaces)
-      for (int c = f.first; c <= f.last; ++c) {
-        if (!std::isnan(ground[std::size_t(c)])) continue;
-        for (int d = 1; c - d >= f.first || c + d <= f.last; ++d) {
-          const int nearer = c - d >= f.first && !std::isnan(ground[std::size_t(c - d)]) ? c - d
-                             : c + d <= f.last                                           ? c + d
-                                                                                         : c;
-          if (std::isnan(ground[std::size_t(nearer)])) continue;
-          reach[std::size_t(c)] = ground[std::size_t(nearer)];
-          break;
-        }
+      for (int c = f.first, last = -1; c <= f.last; ++c)
+        left[std::size_t(c)] = last = hasGround(c) ? c : last;
+    for (const auto& f : surfaces)
+      for (int c = f.last, right = -1; c >= f.first; --c) {
+        right = hasGround(c) ? c : right;
+        const int l = left[std::size_t(c)];
+        const int nearest = l >= 0 && (right < 0 || c - l <= right - c) ? l : right;
+        if (nearest >= 0) reach[std::size_t(c)] = ground[std::size_t(nearest)];
       }
     const auto own = reach;
     auto nearerThan = [&](int c, int beside) {  // column c's range below its neighbour's
