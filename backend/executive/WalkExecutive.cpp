@@ -111,6 +111,7 @@ void WalkExecutive::requestScan(double now_s) {
       walk_task_, TaskKind::kGoal, "step " + std::to_string(steps_done_ + 1),
       previous >= 0 && tasks_.task(previous).status == TaskStatus::kDone ? previous : -1);
   tasks_.start(step_task_, now_s);
+  scan_attempt_ = 0;
   acquireScan(step_task_, "scan", now_s);
 }
 
@@ -118,6 +119,7 @@ void WalkExecutive::requestScan(double now_s) {
 // map covers where the rover stands and the last step gets its registered
 // pose like every other.
 void WalkExecutive::requestClosingScan(double now_s) {
+  scan_attempt_ = 0;
   acquireScan(walk_task_, "closing scan", now_s);
 }
 
@@ -129,7 +131,34 @@ void WalkExecutive::acquireScan(int parent_task, const std::string& name, double
   awaiting_ = send(link::AcquireScan{}, now_s);
   awaiting_what_ = "AcquireScan";
   sent_s_ = now_s;
+  scan_sequence_ = *awaiting_;
+  scan_acked_s_.reset();
+  ++scan_attempt_;
   phase_ = Phase::kScanning;
+}
+
+// An acknowledged scan whose image never came (the largest message, the
+// likeliest to be lost on a poor link) is asked for again, for the same
+// step; the walk does not wait for it forever.
+void WalkExecutive::scanAgain(double now_s) {
+  std::ostringstream why;
+  why.precision(3);
+  why << "no range image within " << imageTimeoutS()
+      << " s of the rover's acknowledgement of the AcquireScan (sequence " << scan_sequence_ << ")";
+  if (scan_attempt_ >= opt_.scan_attempts) {
+    why << "; " << scan_attempt_ << " scans asked for";
+    suspend(now_s, why.str(), false);
+    return;
+  }
+  note(now_s, why.str() + ": asking again");
+  const Task lost = tasks_.task(scan_task_);
+  const auto step = scan_of_step_;
+  acquireScan(lost.parent, lost.name, now_s);
+  scan_of_step_ = step;
+}
+
+double WalkExecutive::imageTimeoutS() const {
+  return std::max(opt_.image_timeout_s, 4.0 * round_trip_s_.value_or(0.0));
 }
 
 void WalkExecutive::closeWalk(double now_s) {
@@ -165,6 +194,11 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
     why << "the rover did not acknowledge the " << awaiting_what_ << " (sequence " << *awaiting_
         << ") within " << ackTimeoutS() << " s";
     suspend(now_s, why.str(), true);
+    return;
+  }
+  if (phase_ == Phase::kScanning && !scan_ && scan_acked_s_ &&
+      now_s - *scan_acked_s_ > imageTimeoutS()) {
+    scanAgain(now_s);
     return;
   }
   if (phase_ == Phase::kScanning && scan_ && !awaiting_ && reported_)
@@ -243,7 +277,10 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, doub
     return;
   }
   tasks_.finish(task, now_s);
-  if (moving) move_acked_at_s_ = rover_time_s;
+  if (moving)
+    move_acked_at_s_ = rover_time_s;
+  else
+    scan_acked_s_ = now_s;
 }
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the part of

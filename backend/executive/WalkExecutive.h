@@ -35,6 +35,11 @@ struct ExecutiveOptions {
   // A command unanswered this long, or 4 measured round trips if longer
   // (a long-delay link): Hold, suspend.
   double ack_timeout_s = 10.0;
+  // A range image not come this long after its AcquireScan was
+  // acknowledged (or 4 round trips, if longer) is asked for again, up to
+  // `scan_attempts` in all; then the step suspends, naming the image.
+  double image_timeout_s = 10.0;
+  int scan_attempts = 3;
   double off_plan_m = 0.05;    // body or foot further than this from the plan: replan
   double off_plan_rad = 0.02;  // or the body turned this much more or less than planned
   // Plan the next step while the rover executes this one (cmu-1990 TCA);
@@ -177,6 +182,8 @@ class WalkExecutive {
   void requestScan(double now_s);
   void requestClosingScan(double now_s);
   void acquireScan(int parent_task, const std::string& name, double now_s);
+  void scanAgain(double now_s);
+  double imageTimeoutS() const;
   void closeWalk(double now_s);
   void mapScan(const sensor::RangeImage& scan, double now_s);
   const ScanMatch& correctPose(const sensor::RangeImage& scan, double now_s);
@@ -247,6 +254,9 @@ class WalkExecutive {
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends
+  std::uint64_t scan_sequence_ = 0;              // the AcquireScan asked for it
+  std::optional<double> scan_acked_s_;           // when the rover acknowledged it
+  int scan_attempt_ = 0;                         // AcquireScans sent for this scan
   std::optional<sensor::ScanGeometry> scanner_;  // of the scans mapped so far
   double scan_time_s_ = 0.0;                     // its rover time
   ProductSink product_sink_;

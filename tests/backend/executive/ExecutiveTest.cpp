@@ -44,6 +44,9 @@ class CountingLink : public link::Link {
     for (const auto& m : in)
       if (const auto* leg = std::get_if<link::LegState>(&m.body))
         joints[std::size_t(leg->leg)] = leg->joints;
+    std::erase_if(in, [&](const link::Telemetry& m) {
+      return std::holds_alternative<sensor::RangeImage>(m.body) && images_lost++ < lose_images;
+    });
     return in;
   }
   std::string describe() const override { return inner_.describe(); }
@@ -55,6 +58,8 @@ class CountingLink : public link::Link {
   // was from them in rotation and extension.
   std::array<std::optional<gait::LegJoints>, gait::kLegCount> joints{};
   double lift_drift_rad = 0.0, lift_drift_m = 0.0;
+  int lose_images = 0;  // the first this many range images never arrive
+  int images_lost = 0;
 
  private:
   static rover::SimulatedRoverOptions options() {
@@ -536,6 +541,47 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   EXPECT_EQ(executive.suspendedBecause(), executive.events().back().what);
   ASSERT_EQ(heard.size(), executive.events().size());
   EXPECT_EQ(heard.back(), executive.events().back().what);
+}
+
+ExecutiveOptions losingImages(int steps) {
+  ExecutiveOptions o;
+  o.steps = steps;
+  o.image_timeout_s = 1.0;
+  o.scan_attempts = 3;
+  return o;
+}
+
+TEST(Executive, ARangeImageLostAfterItsAcknowledgementIsAskedForAgain) {
+  Console c(losingImages(2), ground(), withoutSlips());
+  c.link.lose_images = 2;
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone) << c.executive.events().back().what;
+  EXPECT_EQ(c.link.count("AcquireScan"), 3 + 2);
+  EXPECT_EQ(c.link.count("Hold"), 0);
+  const auto& events = c.executive.events();
+  const auto asked = std::count_if(events.begin(), events.end(), [](const ExecutiveEvent& e) {
+    return e.what.find("no range image within 1 s") != std::string::npos &&
+           e.what.find("asking again") != std::string::npos;
+  });
+  EXPECT_EQ(asked, 2);
+  for (const auto& step : c.executive.stepLog()) EXPECT_TRUE(step.registered.has_value());
+}
+
+TEST(Executive, AScanWhoseImageNeverComesSuspendsTheStepNamingIt) {
+  Console c(losingImages(2), ground(), withoutSlips());
+  c.link.lose_images = 1000;
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(c.link.count("AcquireScan"), 3);
+  EXPECT_EQ(c.link.count("Hold"), 0);  // the rover stands; nothing is under way
+  EXPECT_EQ(c.executive.stepsDone(), 0);
+  const std::string& why = c.executive.suspendedBecause();
+  EXPECT_NE(why.find("no range image within 1 s"), std::string::npos) << why;
+  EXPECT_NE(why.find("3 scans asked for"), std::string::npos) << why;
 }
 
 // A rover that never answers.
