@@ -84,6 +84,7 @@ void validate(const FootOptions& o) {
                "equilibrium_moment_weight", "in [0, 100]");
   requireRange(o.support_bin_m >= 1e-6 && o.support_bin_m <= 0.1, "support_bin_m",
                "in [1e-6, 0.1] m");
+  requireRange(o.clearance_m >= 0 && o.clearance_m <= 1, "clearance_m", "in [0, 1] m");
 }
 
 ScoreMap ScoreMap::empty(const GridSpec& grid, std::string name, std::string unit) {
@@ -94,9 +95,11 @@ ScoreMap ScoreMap::empty(const GridSpec& grid, std::string name, std::string uni
 FootprintStatistics footprintStatistics(const terrain::ElevationMap& map, const Box2& region,
                                         const FootOptions& o, bool with_support) {
   validate(o);
+  const int clearance = int(std::ceil(o.clearance_m / map.grid().resolution - 1e-9));
   return computeFootprintStatistics(
       map, region,
-      {o.diameter_m, o.sigma_margin, with_support ? o.min_support_fraction : 0.0, o.support_bin_m});
+      {o.diameter_m, o.sigma_margin, with_support ? o.min_support_fraction : 0.0, o.support_bin_m,
+       clearance});
 }
 
 int ScoreMap::validCount() const {

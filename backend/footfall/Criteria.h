@@ -36,6 +36,9 @@ struct FootOptions {
   // the rim of one side doubles the score.
   double equilibrium_moment_weight = 1.0;
   double support_bin_m = 5e-4;  // height resolution of the support-area order statistic
+  // The sole stays this far from any cell not known (docs/footfall.md,
+  // "Clearance"), rounded up to whole cells of the map; 0: off.
+  double clearance_m = 0.05;
 };
 
 // Throws std::invalid_argument naming the first field out of range.

@@ -22,6 +22,7 @@ CostMapOptions readFootfallConfig(const std::filesystem::path& path) {
       {"foot", "sigma_margin", &o.foot.sigma_margin},
       {"foot", "equilibrium_moment_weight", &o.foot.equilibrium_moment_weight},
       {"foot", "support_bin_m", &o.foot.support_bin_m},
+      {"foot", "clearance_m", &o.foot.clearance_m},
       {"limits", "reach_min_m", &o.limits.reach_min_m},
       {"limits", "reach_max_m", &o.limits.reach_max_m},
       {"limits", "elevation_min_m", &o.limits.elevation_min_m},

@@ -15,17 +15,33 @@ namespace {
 struct Window {
   int rows = 0, cols = 0;
   std::vector<unsigned char> known;
+  // Known, and so is every cell within the clearance of it: where a sole
+  // may rest.
+  std::vector<unsigned char> clear;
   std::vector<double> z, sigma;  // z relative to the reference; 0 unless known
   int index(int r, int c) const { return r * cols + c; }
 };
 
+// Cells nobody saw (shadow, unknown or oblique) come in scattered specks
+// under range noise, and a hidden strip behind a pebble is often one cell
+// next to such a speck: a sole clear of them by `clearance` cells rests on
+// ground that was seen.
+bool clearOfUnseen(const terrain::ElevationMap& map, int row, int col, int clearance) {
+  const GridSpec& g = map.grid();
+  for (int r = row - clearance; r <= row + clearance; ++r)
+    for (int c = col - clearance; c <= col + clearance; ++c)
+      if (r < 0 || r >= g.rows || c < 0 || c >= g.cols || !map.isKnown(r, c)) return false;
+  return true;
+}
+
 Window extractWindow(const terrain::ElevationMap& map, const CandidateCells& cells, int radius,
-                     double& reference_z) {
+                     int clearance, double& reference_z) {
   Window w;
   w.rows = cells.grid.rows + 2 * radius;
   w.cols = cells.grid.cols + 2 * radius;
   const std::size_t n = std::size_t(w.rows) * w.cols;
   w.known.assign(n, 0);
+  w.clear.assign(n, 0);
   w.z.assign(n, 0.0);
   w.sigma.assign(n, 0.0);
   const GridSpec& g = map.grid();
@@ -37,6 +53,7 @@ Window extractWindow(const terrain::ElevationMap& map, const CandidateCells& cel
       if (mr < 0 || mr >= g.rows || mc < 0 || mc >= g.cols || !map.isKnown(mr, mc)) continue;
       const int i = w.index(r, c);
       w.known[i] = 1;
+      w.clear[i] = clearance == 0 || clearOfUnseen(map, mr, mc, clearance);
       w.z[i] = map.elevation(mr, mc);
       w.sigma[i] = map.sigma(mr, mc);
       sum += w.z[i], ++count;
@@ -244,13 +261,13 @@ FootprintStatistics computeFootprintStatistics(const terrain::ElevationMap& map,
   s.cells = candidateCells(map.grid(), region);
   s.disk = DiskFootprint::forDiameter(request.diameter_m, map.grid().resolution);
   const int radius = s.disk.radius_cells;
-  const Window w = extractWindow(map, s.cells, radius, s.reference_z);
+  const Window w = extractWindow(map, s.cells, radius, request.clearance_cells, s.reference_z);
 
   const double k = request.sigma_margin;
   std::vector<double> hi(w.z.size()), lo(w.z.size());
   for (std::size_t i = 0; i < w.z.size(); ++i)
     hi[i] = w.z[i] + k * w.sigma[i], lo[i] = w.z[i] - k * w.sigma[i];
-  const RowPrefix unknown(w, [&](int i, int) { return w.known[i] ? 0.0 : 1.0; });
+  const RowPrefix unknown(w, [&](int i, int) { return w.clear[i] ? 0.0 : 1.0; });
   const RowPrefix z(w, [&](int i, int) { return w.z[i]; });
   const RowPrefix z2(w, [&](int i, int) { return w.z[i] * w.z[i]; });
   const RowPrefix cz(w, [&](int i, int c) { return c * w.z[i]; });

@@ -61,6 +61,7 @@ struct StatisticsRequest {
   double sigma_margin = 2.0;
   double support_fraction = 0.0;  // 0: no order statistic
   double support_bin_m = 5e-4;
+  int clearance_cells = 0;  // cells between the sole and any cell not known
 };
 
 FootprintStatistics computeFootprintStatistics(const terrain::ElevationMap& map, const Box2& region,

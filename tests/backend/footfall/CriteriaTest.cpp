@@ -110,6 +110,18 @@ struct Direct {
   const ElevationMap& map;
   FootOptions o;
 
+  bool known(int r, int c) const {
+    return r >= 0 && c >= 0 && r < map.grid().rows && c < map.grid().cols && map.isKnown(r, c);
+  }
+  // Known, and so are the cells within the clearance of it.
+  bool clear(int r, int c) const {
+    const int n = int(std::ceil(o.clearance_m / kRes - 1e-9));
+    for (int dr = -n; dr <= n; ++dr)
+      for (int dc = -n; dc <= n; ++dc)
+        if (!known(r + dr, c + dc)) return false;
+    return true;
+  }
+
   double at(Criterion criterion, int r0, int c0) const {
     const double radius = o.diameter_m / 2 / kRes, k = o.sigma_margin, a = kRes * kRes;
     std::vector<double> lo;
@@ -120,8 +132,7 @@ struct Direct {
       for (int dx = -8; dx <= 8; ++dx) {
         if (dx * dx + dy * dy > radius * radius) continue;
         const int r = r0 + dy, c = c0 + dx;
-        if (r < 0 || c < 0 || r >= map.grid().rows || c >= map.grid().cols || !map.isKnown(r, c))
-          return NAN;
+        if (!clear(r, c)) return NAN;
         const double z = map.elevation(r, c), s = map.sigma(r, c);
         top = std::max(top, z + k * s), bottom = std::min(bottom, z - k * s);
         lo.push_back(z - k * s), sum_lo += z - k * s, var += s * s;
@@ -177,30 +188,34 @@ TEST(Criteria, MatchDirectEvaluationOnRoughGroundWithGaps) {
       }
       map.setKnown(r, c, map.elevation(r, c), sigma(rng));
     }
-  FootOptions o;
-  o.max_tilt_deg = 20;
   const Box2 region{0.1, 0.1, 1.5, 1.3};  // reaches the map's border: partial feet are invalid
-  const auto maps = evaluateAllCriteria(map, region, o);
-  const Direct direct{map, o};
-  int compared = 0;
-  for (int ci = 0; ci < 5; ++ci) {
-    const auto& m = maps[ci];
-    for (int r = 0; r < m.grid.rows; r += 3)
-      for (int c = 0; c < m.grid.cols; c += 3) {
-        const auto p = m.grid.cellCenter(r, c);
-        const auto cell = map.grid().cellAt(p.x(), p.y());
-        ASSERT_TRUE(cell);
-        const double expected = direct.at(kAllCriteria[ci], cell->row, cell->col);
-        const double got = m.score(r, c);
-        ASSERT_EQ(std::isnan(expected), std::isnan(got)) << m.name << " at " << r << "," << c;
-        if (std::isnan(expected)) continue;
-        const double tolerance =
-            kAllCriteria[ci] == Criterion::kSupportArea ? o.support_bin_m : 1e-5 * (1 + expected);
-        EXPECT_NEAR(got, expected, tolerance) << m.name << " at " << r << "," << c;
-        ++compared;
-      }
+  for (const double clearance_m : {0.0, kRes}) {
+    FootOptions o;
+    o.max_tilt_deg = 20;
+    o.clearance_m = clearance_m;
+    const auto maps = evaluateAllCriteria(map, region, o);
+    const Direct direct{map, o};
+    int compared = 0;
+    for (int ci = 0; ci < 5; ++ci) {
+      const auto& m = maps[ci];
+      for (int r = 0; r < m.grid.rows; r += 3)
+        for (int c = 0; c < m.grid.cols; c += 3) {
+          const auto p = m.grid.cellCenter(r, c);
+          const auto cell = map.grid().cellAt(p.x(), p.y());
+          ASSERT_TRUE(cell);
+          const double expected = direct.at(kAllCriteria[ci], cell->row, cell->col);
+          const double got = m.score(r, c);
+          ASSERT_EQ(std::isnan(expected), std::isnan(got))
+              << m.name << " at " << r << "," << c << ", clearance " << clearance_m;
+          if (std::isnan(expected)) continue;
+          const double tolerance =
+              kAllCriteria[ci] == Criterion::kSupportArea ? o.support_bin_m : 1e-5 * (1 + expected);
+          EXPECT_NEAR(got, expected, tolerance) << m.name << " at " << r << "," << c;
+          ++compared;
+        }
+    }
+    EXPECT_GT(compared, 800) << "clearance " << clearance_m;
   }
-  EXPECT_GT(compared, 1000);
 }
 
 // krotkov1989 fig. 5a/b: max-min prefers a flat surface punctuated by a
@@ -295,6 +310,33 @@ TEST(Criteria, NeverStandsOnShadowOrUnknownCells) {
   }
 }
 
+// One unseen cell at (30, 30); feet on the same row, their disks (7.5
+// cells in radius) 8, 9 and 10 cells away from it along the row.
+TEST(Criteria, ClearanceKeepsTheSoleAwayFromUnseenCells) {
+  auto map = makeMap(1.2, 1.2, [](double, double) { return 0.0; });
+  map.setUnobserved(30, 30, CellState::kShadow);
+  const auto centre = [&](int col) { return map.grid().cellCenter(30, col); };
+  auto valid = [&](double clearance_m, int col) {
+    FootOptions o = exact();
+    o.clearance_m = clearance_m;
+    const auto p = centre(col);
+    const Box2 region{p.x() - kRes / 2, p.y() - kRes / 2, p.x() + kRes / 2, p.y() + kRes / 2};
+    const auto m = evaluateFootfalls(map, region, Criterion::kMaxMin, o);
+    return std::isfinite(scoreAtPoint(m, p.x(), p.y()));
+  };
+  EXPECT_FALSE(valid(0.0, 37));  // the sole covers it
+  EXPECT_TRUE(valid(0.0, 38));
+  EXPECT_FALSE(valid(kRes, 38));  // one cell of clearance
+  EXPECT_TRUE(valid(kRes, 39));
+  EXPECT_FALSE(valid(0.5 * kRes, 38));  // rounded up to a whole cell
+  EXPECT_FALSE(valid(2 * kRes, 39));
+  EXPECT_TRUE(valid(2 * kRes, 40));
+  // The map's edge is no clearance either: off the map nobody saw anything.
+  EXPECT_TRUE(valid(0.0, 7));  // the sole reaches column 0
+  EXPECT_FALSE(valid(kRes, 7));
+  EXPECT_TRUE(valid(kRes, 8));
+}
+
 TEST(Criteria, UncertainGroundLosesToCertainGround) {
   auto map = makeMap(2.0, 1.0, [](double, double) { return 0.0; });
   for (int r = 0; r < map.grid().rows; ++r)
@@ -332,6 +374,9 @@ TEST(Criteria, RejectsBadOptionsAndRegions) {
   o.min_support_fraction = NAN;
   EXPECT_THROW(evaluateFootfalls(map, {0, 0, 1, 1}, Criterion::kSupportArea, o),
                std::invalid_argument);
+  o = {};
+  o.clearance_m = NAN;
+  EXPECT_THROW(evaluateFootfalls(map, {0, 0, 1, 1}, Criterion::kMaxMin, o), std::invalid_argument);
   EXPECT_THROW(evaluateFootfalls(map, {5, 5, 6, 6}, Criterion::kMaxMin), std::invalid_argument);
   EXPECT_THROW(evaluateFootfalls(map, {0, 0, NAN, 1}, Criterion::kMaxMin), std::invalid_argument);
 }
