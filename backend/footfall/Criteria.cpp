@@ -95,7 +95,7 @@ ScoreMap ScoreMap::empty(const GridSpec& grid, std::string name, std::string uni
 FootprintStatistics footprintStatistics(const terrain::ElevationMap& map, const Box2& region,
                                         const FootOptions& o, bool with_support) {
   validate(o);
-  const int clearance = int(std::ceil(o.clearance_m / map.grid().resolution - 1e-9));
+  const int clearance = int(std::floor(o.clearance_m / map.grid().resolution + 1e-9));
   return computeFootprintStatistics(
       map, region,
       {o.diameter_m, o.sigma_margin, with_support ? o.min_support_fraction : 0.0, o.support_bin_m,

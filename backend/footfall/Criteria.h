@@ -36,8 +36,9 @@ struct FootOptions {
   // the rim of one side doubles the score.
   double equilibrium_moment_weight = 1.0;
   double support_bin_m = 5e-4;  // height resolution of the support-area order statistic
-  // The sole stays this far from any cell not known (docs/footfall.md,
-  // "Clearance"), rounded up to whole cells of the map; 0: off.
+  // The sole stays this many whole map cells from any cell not known, the
+  // most that fit in this distance (docs/footfall.md, "Clearance"); none
+  // on maps with larger cells.
   double clearance_m = 0.05;
 };
 

@@ -115,7 +115,7 @@ struct Direct {
   }
   // Known, and so are the cells within the clearance of it.
   bool clear(int r, int c) const {
-    const int n = int(std::ceil(o.clearance_m / kRes - 1e-9));
+    const int n = int(std::floor(o.clearance_m / kRes + 1e-9));
     for (int dr = -n; dr <= n; ++dr)
       for (int dc = -n; dc <= n; ++dc)
         if (!known(r + dr, c + dc)) return false;
@@ -328,7 +328,7 @@ TEST(Criteria, ClearanceKeepsTheSoleAwayFromUnseenCells) {
   EXPECT_TRUE(valid(0.0, 38));
   EXPECT_FALSE(valid(kRes, 38));  // one cell of clearance
   EXPECT_TRUE(valid(kRes, 39));
-  EXPECT_FALSE(valid(0.5 * kRes, 38));  // rounded up to a whole cell
+  EXPECT_TRUE(valid(0.9 * kRes, 38));  // whole cells only: less than one is none
   EXPECT_FALSE(valid(2 * kRes, 39));
   EXPECT_TRUE(valid(2 * kRes, 40));
   // The map's edge is no clearance either: off the map nobody saw anything.
