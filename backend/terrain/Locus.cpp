@@ -172,8 +172,7 @@ PixelTable rowTable(const sensor::ScanGeometry& g) {
 
 class LocusSolver {
  public:
-  LocusSolver(const RangeImage& image, const OccludingEdges& edges,
-              const OccludingEdgeOptions& edge_options, double epsilon_rad,
+  LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
               double max_sample_spacing_m);
 
   // Median world height of the image's points (every 4th row and column):
@@ -216,7 +215,7 @@ class LocusSolver {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
   void markSparseQuads(double max_spacing_m);
-  void findBorderGround(const OccludingEdgeOptions& edge_options);
+  void findBorderGround();
   bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
@@ -255,8 +254,7 @@ class LocusSolver {
   std::array<std::vector<double>, 2> border_reach_;
 };
 
-LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges,
-                         const OccludingEdgeOptions& edge_options, double epsilon_rad,
+LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
                          double max_sample_spacing_m)
     : image_(image),
       edges_(edges),
@@ -314,7 +312,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges,
                       across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
     }
   markSparseQuads(max_sample_spacing_m);
-  findBorderGround(edge_options);
+  findBorderGround();
   last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
@@ -478,18 +476,15 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
 // are ground (returns, in quads that are neither occluding edges nor steep
 // faces), less two standard deviations of its range noise; a column without
 // ground takes that of the nearest column with ground on the same surface.
-// The border splits into surfaces where the range jumps between
-// neighbouring columns by more than the occluding edges' test allows. A
+// The border splits into surfaces where neighbouring columns are across
+// an occluding edge. A
 // surface nearer than the surfaces on both its sides (on the one side at
 // the image's edge) is an obstacle standing up into the last scanline, its
 // top say: what it hides lies before the ground beside it, whose reach it
 // takes, interpolated across it from one side to the other.
-void LocusSolver::findBorderGround(const OccludingEdgeOptions& edge_options) {
+void LocusSolver::findBorderGround() {
   const int cols = g_.cols;
   const double k = image_.range_sigma_k;
-  // A continuous surface seen at the least grazing angle changes range by
-  // this share of the range from one column to the next.
-  const double step = std::abs(g_.theta_step) / std::tan(edge_options.min_grazing_deg * M_PI / 180);
   for (int b = 0; b < 2; ++b) {
     auto& reach = border_reach_[std::size_t(b)];
     reach.assign(std::size_t(cols), NAN);
@@ -510,10 +505,7 @@ void LocusSolver::findBorderGround(const OccludingEdgeOptions& edge_options) {
     }
     // The surfaces: runs of columns [first, last] with continuous ranges.
     auto continuous = [&](int c) {  // columns c and c + 1
-      if (!hasReturn(border, c) || !hasReturn(border, c + 1)) return false;
-      const double a = image_.at(border, c), z = image_.at(border, c + 1);
-      const double noise = edge_options.noise_sigmas * k * std::hypot(a * a, z * z);
-      return std::abs(a - z) <= std::max(a, z) * step + noise;
+      return hasReturn(border, c) && hasReturn(border, c + 1) && !edges_.rightPairIsEdge(border, c);
     };
     struct Surface {
       int first, last;
@@ -894,7 +886,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
-  const LocusSolver solver(image, edges, options.edges, epsilon, options.max_sample_spacing_m);
+  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 

@@ -185,14 +185,17 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
         }
         const int r1 = kind == 0 ? r : r + 1;
         const int c0 = kind == 3 ? c + 1 : c, c1 = kind == 1 ? c : (kind == 3 ? c : c + 1);
-        pixel_[std::size_t(r) * cols_ + c0] = pixel_[std::size_t(r1) * cols_ + c1] = 1;
+        pixel_[std::size_t(r) * cols_ + c0] |= kEdgePixel;
+        pixel_[std::size_t(r1) * cols_ + c1] |= kEdgePixel;
+        if (kind == 0) pixel_[std::size_t(r) * cols_ + c] |= kRightPairEdge;
         mark(r, c, kind, kEdgeQuad);
       }
     }
 }
 
 int OccludingEdges::edgePixelCount() const {
-  return int(std::count(pixel_.begin(), pixel_.end(), std::uint8_t(1)));
+  return int(std::count_if(pixel_.begin(), pixel_.end(),
+                           [](std::uint8_t p) { return (p & kEdgePixel) != 0; }));
 }
 
 }  // namespace ambler::terrain

@@ -49,11 +49,16 @@ class OccludingEdges {
   // what lies between its samples was barely seen, if at all.
   bool quadIsGrazing(int r, int c) const { return quadFlags(r, c) == kGrazingQuad; }
   // Pixels on either side of a discontinuity (for display and tests).
-  bool pixelIsEdge(int r, int c) const { return pixel_[std::size_t(r) * cols_ + c] != 0; }
+  bool pixelIsEdge(int r, int c) const { return pixel_[std::size_t(r) * cols_ + c] & kEdgePixel; }
+  // Pixels (r, c) and (r, c + 1) are discontinuous.
+  bool rightPairIsEdge(int r, int c) const {
+    return pixel_[std::size_t(r) * cols_ + c] & kRightPairEdge;
+  }
   int edgePixelCount() const;
 
  private:
   static constexpr std::uint8_t kEdgeQuad = 1, kGrazingQuad = 2;
+  static constexpr std::uint8_t kEdgePixel = 1, kRightPairEdge = 2;
   std::uint8_t quadFlags(int r, int c) const { return quad_[std::size_t(r) * (cols_ - 1) + c]; }
 
   int rows_ = 0, cols_ = 0;

@@ -44,6 +44,18 @@ TEST(OccludingEdges, ContinuousGroundHasNoEdgesAndAStepHas) {
     EXPECT_FALSE(edges.quadIsEdge(30, c)) << c;
   }
   EXPECT_EQ(edges.edgePixelCount(), 2 * 64);
+  for (int c = 0; c < 63; ++c) EXPECT_FALSE(edges.rightPairIsEdge(19, c)) << c;  // along it
+}
+
+// Columns 40..63 see something 2 m farther: each scanline crosses an edge
+// between columns 39 and 40, and only there.
+TEST(OccludingEdges, AJumpBetweenColumnsIsARightPairEdge) {
+  auto image = flatGroundImage(64, 64);
+  for (int r = 0; r < 64; ++r)
+    for (int c = 40; c < 64; ++c) image.range[std::size_t(r) * 64 + c] += 2.0f;
+  const OccludingEdges edges(image);
+  for (int r = 0; r < 64; ++r)
+    for (int c = 0; c < 63; ++c) EXPECT_EQ(edges.rightPairIsEdge(r, c), c == 39) << r << "," << c;
 }
 
 // A jump between the weak and the strong noise allowance is an edge with
