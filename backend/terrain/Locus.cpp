@@ -477,11 +477,11 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
 // faces), less two standard deviations of its range noise; a column without
 // ground takes that of the nearest column with ground on the same surface.
 // The border splits into surfaces where neighbouring columns are across
-// an occluding edge. A
-// surface nearer than the surfaces on both its sides (on the one side at
-// the image's edge) is an obstacle standing up into the last scanline, its
-// top say: what it hides lies before the ground beside it, whose reach it
-// takes, interpolated across it from one side to the other.
+// an occluding edge. A surface nearer than the surfaces on both its sides
+// (on the one side at the image's edge) is an obstacle standing up into
+// the last scanline, its top say: what it hides lies before the ground
+// beside it, whose reach it takes, interpolated across it from one side
+// to the other.
 void LocusSolver::findBorderGround() {
   const int cols = g_.cols;
   const double k = image_.range_sigma_k;

@@ -543,20 +543,26 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   EXPECT_EQ(heard.back(), executive.events().back().what);
 }
 
-ExecutiveOptions losingImages(int steps) {
-  ExecutiveOptions o;
-  o.steps = steps;
-  o.image_timeout_s = 1.0;
-  o.scan_attempts = 3;
-  return o;
-}
+// A two-step walk on auto-approve over a link that loses the first `lost`
+// range images, polled until it reaches `until`.
+struct LosingImages : Console {
+  LosingImages(int lost, Phase until) : Console(options(), ground(), withoutSlips()) {
+    link.lose_images = lost;
+    gate.setMode(ApprovalMode::kAutoApprove);
+    executive.start(now);
+    pollUntil([&] { return executive.phase() == until; });
+  }
+  static ExecutiveOptions options() {
+    ExecutiveOptions o;
+    o.steps = 2;
+    o.image_timeout_s = 1.0;
+    o.scan_attempts = 3;
+    return o;
+  }
+};
 
 TEST(Executive, ARangeImageLostAfterItsAcknowledgementIsAskedForAgain) {
-  Console c(losingImages(2), ground(), withoutSlips());
-  c.link.lose_images = 2;
-  c.gate.setMode(ApprovalMode::kAutoApprove);
-  c.executive.start(c.now);
-  c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
+  LosingImages c(2, Phase::kDone);
   ASSERT_EQ(c.executive.phase(), Phase::kDone) << c.executive.events().back().what;
   EXPECT_EQ(c.link.count("AcquireScan"), 3 + 2);
   EXPECT_EQ(c.link.count("Hold"), 0);
@@ -570,11 +576,7 @@ TEST(Executive, ARangeImageLostAfterItsAcknowledgementIsAskedForAgain) {
 }
 
 TEST(Executive, AScanWhoseImageNeverComesSuspendsTheStepNamingIt) {
-  Console c(losingImages(2), ground(), withoutSlips());
-  c.link.lose_images = 1000;
-  c.gate.setMode(ApprovalMode::kAutoApprove);
-  c.executive.start(c.now);
-  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  LosingImages c(1000, Phase::kSuspended);
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_EQ(c.link.count("AcquireScan"), 3);
   EXPECT_EQ(c.link.count("Hold"), 0);  // the rover stands; nothing is under way
