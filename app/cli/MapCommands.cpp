@@ -77,6 +77,10 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "noise allowance [std. dev.] before a pair counts as grazing")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--grazing-weak-noise", edges.weak_grazing_noise_sigmas,
+                 "a smaller allowance [std. dev.] for pairs beside a grazing pair or an edge")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
   cmd.add_option("--oblique-shadow-sides", locus.oblique_shadow_sides,
                  "known cells beside a shadow across the line of sight are oblique (true/false)")
       ->capture_default_str();

@@ -15,6 +15,11 @@ namespace {
 // the other pixel (0 when unavailable): an occluder is seen at a steeper
 // angle than the jump behind it, while a continuous grazing surface changes
 // range at a similar rate on both sides.
+// What a pair of pixels is. The weak levels are beyond only the smaller,
+// hysteresis allowance; they count when the same kind of pair beside them
+// along the image is an edge or grazing.
+enum Level : std::uint8_t { kContinuous, kWeakEdge, kEdge, kGrazing, kWeakGrazing };
+
 struct JumpTest {
   double inv_tan_grazing;
   double step_ratio;
@@ -23,28 +28,23 @@ struct JumpTest {
 
   double weak_sigmas;  // at most noise_sigmas
   double grazing_sigmas;
+  double weak_grazing_sigmas;  // at most grazing_sigmas
 
-  // 2: a discontinuity; 1: one only within the weak noise allowance; 3:
-  // none, but steeper than the grazing bound beyond its noise allowance; 0:
-  // none.
-  std::uint8_t operator()(double a, double b, double separation, double near_slope) const {
+  Level operator()(double a, double b, double separation, double near_slope) const {
     const double sigma = k * std::sqrt(a * a * a * a + b * b * b * b);
     const double grazing = std::min(a, b) * separation * inv_tan_grazing;
     const double smooth = std::max(grazing, step_ratio * near_slope);
     const double jump = std::abs(a - b);
-    if (jump > smooth + noise_sigmas * sigma) return 2;
-    if (jump > smooth + weak_sigmas * sigma) return 1;
-    return jump > grazing + grazing_sigmas * sigma ? 3 : 0;
+    if (jump > smooth + noise_sigmas * sigma) return kEdge;
+    if (jump > smooth + weak_sigmas * sigma) return kWeakEdge;
+    if (jump > grazing + grazing_sigmas * sigma) return kGrazing;
+    return jump > grazing + weak_grazing_sigmas * sigma ? kWeakGrazing : kContinuous;
   }
 };
 
 // The neighbour pairs of a pixel: to its right, below it, and the two
 // diagonals of the quad below and right of it.
 enum PairFlags : std::uint8_t { kRight = 1, kDown = 2, kDiagonal = 4, kAnti = 8 };
-
-// JumpTest's level for a pair steeper than the grazing bound, yet no
-// discontinuity.
-constexpr std::uint8_t kGrazingOnly = 3;
 
 }  // namespace
 
@@ -61,13 +61,19 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
                                 std::to_string(options.grazing_noise_sigmas) +
                                 " sigma) must not exceed the weak edge allowance (" +
                                 std::to_string(weak_sigmas) + " sigma)");
+  if (options.mark_grazing && options.weak_grazing_noise_sigmas > options.grazing_noise_sigmas)
+    throw std::invalid_argument("the weak grazing noise allowance (" +
+                                std::to_string(options.weak_grazing_noise_sigmas) +
+                                " sigma) must not exceed the grazing allowance (" +
+                                std::to_string(options.grazing_noise_sigmas) + " sigma)");
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
                        options.noise_sigmas,
                        image.range_sigma_k,
                        weak_sigmas,
-                       options.grazing_noise_sigmas};
+                       options.grazing_noise_sigmas,
+                       options.weak_grazing_noise_sigmas};
   // Angular separation of neighbours: a column step turns the ray by
   // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
   const double col_sep = std::abs(g.theta_step);
@@ -85,13 +91,13 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       if (image.hasReturn(r, c)) range[std::size_t(r) * cols_ + c] = image.at(r, c);
   auto at = [&](int r, int c) { return double(range[std::size_t(r) * cols_ + c]); };
   // The level of each tested pair, by the pixel it starts from and kind.
-  std::vector<std::uint8_t> level(pixel_.size(), 0);
-  auto test = [&](int r0, int c0, int r1, int c1, double separation) -> std::uint8_t {
+  std::vector<std::uint16_t> level(pixel_.size(), 0);
+  auto test = [&](int r0, int c0, int r1, int c1, double separation) -> Level {
     const double a = at(r0, c0), b = at(r1, c1);
     const double near = std::min(a, b);
     // Within the grazing bound the pair is continuous whatever the rest of
     // the test says: most pairs, decided without a neighbour or a root.
-    if (!(std::abs(a - b) > near * separation * jumps.inv_tan_grazing)) return 0;
+    if (!(std::abs(a - b) > near * separation * jumps.inv_tan_grazing)) return kContinuous;
     // The nearer pixel's neighbour on the side away from the other pixel.
     const int dr = r1 - r0, dc = c1 - c0;
     const int nr = a <= b ? r0 - dr : r1 + dr, nc = a <= b ? c0 - dc : c1 + dc;
@@ -99,13 +105,13 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     const double near_slope = valid ? std::abs(at(nr, nc) - near) : 0.0;
     return jumps(a, b, separation, near_slope);
   };
-  // Levels in bits: two per pair kind (right, down, diagonal, anti).
-  auto record = [&](int r, int c, int kind, std::uint8_t l) {
-    level[std::size_t(r) * cols_ + c] |= std::uint8_t(l << (2 * kind));
+  // Levels in bits: three per pair kind (right, down, diagonal, anti).
+  auto record = [&](int r, int c, int kind, Level l) {
+    level[std::size_t(r) * cols_ + c] |= std::uint16_t(l << (3 * kind));
   };
-  auto levelOf = [&](int r, int c, int kind) -> int {
-    if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return 0;
-    return (level[std::size_t(r) * cols_ + c] >> (2 * kind)) & 3;
+  auto levelOf = [&](int r, int c, int kind) -> Level {
+    if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return kContinuous;
+    return Level((level[std::size_t(r) * cols_ + c] >> (3 * kind)) & 7);
   };
   auto testAll = [&](int r, int c, std::uint8_t candidates) {
     if (candidates & kRight) record(r, c, 0, test(r, c, r, c + 1, col_sep));
@@ -143,18 +149,20 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     for (int c = 0; c < cols_; ++c)
       if (candidates[c]) testAll(r, c, candidates[c]);
   }
-  // A weak jump is kept when the edge continues: a jump of the same kind
-  // beside it along the edge's run (across rows for a row pair, along
-  // columns for a column pair, either way for diagonals).
-  auto continued = [&](int r, int c, int kind) {
+  // A weak level is kept when what it is continues: a pair of the same
+  // kind beside it along the run (across rows for a row pair, along columns
+  // for a column pair, either way for diagonals) whose level `counts`.
+  auto continued = [&](int r, int c, int kind, auto counts) {
     for (int d = -1; d <= 1; ++d)
       for (int e : {-1, 1}) {
         const bool along_columns = kind == 1 || (kind >= 2 && d == 0);
         const int rr = along_columns ? r + d : r + e, cc = along_columns ? c + e : c + d;
-        if (const int l = levelOf(rr, cc, kind); l == 1 || l == 2) return true;
+        if (counts(levelOf(rr, cc, kind))) return true;
       }
     return false;
   };
+  auto isEdge = [](Level l) { return l == kWeakEdge || l == kEdge; };
+  auto isEdgeOrGrazing = [](Level l) { return l == kWeakEdge || l == kEdge || l == kGrazing; };
   // Each edge pair marks the quads it belongs to: a row pair the quads
   // above and below it, a column pair those left and right of it, a
   // diagonal its own quad.
@@ -177,9 +185,14 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     for (int c = 0; c < cols_; ++c) {
       if (!level[std::size_t(r) * cols_ + c]) continue;
       for (int kind = 0; kind < 4; ++kind) {
-        const int l = levelOf(r, c, kind);
-        if (l == 0) continue;
-        if (l == kGrazingOnly || (l == 1 && !continued(r, c, kind))) {
+        const Level l = levelOf(r, c, kind);
+        if (l == kContinuous) continue;
+        if (l == kWeakGrazing) {
+          if (options.mark_grazing && continued(r, c, kind, isEdgeOrGrazing))
+            mark(r, c, kind, kGrazingQuad);
+          continue;
+        }
+        if (l == kGrazing || (l == kWeakEdge && !continued(r, c, kind, isEdge))) {
           if (options.mark_grazing) mark(r, c, kind, kGrazingQuad);
           continue;
         }

@@ -30,7 +30,12 @@ struct OccludingEdgeOptions {
   bool mark_grazing = true;
   // The allowance, in std. dev. of the jump; at most the weak allowance
   // (the constructor throws std::invalid_argument otherwise).
-  double grazing_noise_sigmas = 1.0;
+  double grazing_noise_sigmas = 1.5;
+  // Hysteresis again: a pair beyond only this smaller allowance is grazing
+  // when a neighbouring pair of the same kind along the image is grazing or
+  // an edge, for ground seen obliquely runs along the image like an edge.
+  // At most grazing_noise_sigmas; equal turns it off (README, elevation maps).
+  double weak_grazing_noise_sigmas = 0.0;
 };
 
 // The discontinuities of one range image, indexed by the image's quads: quad

@@ -322,8 +322,9 @@ TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   EXPECT_LT(occluded_known_after, occluded_known_before / 2);  // 17 to 3
 }
 
-// (error / sigma)^2 summed over the known cells of a map of ground at z = 0;
-// sqrt(sum / n) is 1 for honest sigmas.
+// (error / sigma)^2 summed over the cells with a height (known or oblique:
+// the sigma is the locus method's, whichever state the edge test gives the
+// cell) of a map of ground at z = 0; sqrt(sum / n) is 1 for honest sigmas.
 struct SquaredRatios {
   double sum = 0;
   int n = 0;
@@ -331,7 +332,7 @@ struct SquaredRatios {
     const auto& g = map.grid();
     for (int r = 0; r < g.rows; ++r)
       for (int c = 0; c < g.cols; ++c)
-        if (map.isKnown(r, c)) {
+        if (map.hasHeight(r, c)) {
           const double ratio = map.elevation(r, c) / map.sigma(r, c);
           sum += ratio * ratio, ++n;
         }
@@ -365,8 +366,6 @@ TEST(Locus, SigmaOfFarGroundUnderHeavyNoiseMatchesTheObservedError) {
   SquaredRatios ratios;
   for (unsigned seed = 1; seed <= 3; ++seed)
     ratios.add(buildLocusMap(sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), seed), grid));
-  // Beyond 8.5 m the ground is seen at under 10 degrees, and where the noise
-  // makes a pair steeper than that the cells are oblique, not scored.
   ASSERT_GT(ratios.n, 5000);
   EXPECT_NEAR(ratios.rms(), 1.0, 0.2);
 }

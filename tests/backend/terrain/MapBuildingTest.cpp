@@ -79,6 +79,45 @@ TEST(OccludingEdges, HysteresisKeepsWeakJumpsThatContinue) {
   EXPECT_FALSE(edges.pixelIsEdge(10, 32));
 }
 
+// Rows 0..19 of `column` pushed away so that the pair across rows 19 and 20
+// is `sigmas` beyond the grazing bound of the default options.
+void pushBeyondTheGrazingBound(sensor::RangeImage& image, int column, double sigmas) {
+  const int cols = image.geometry.cols;
+  const double near = image.range[std::size_t(20) * cols + column];
+  const double separation = std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
+  const double bound = near * separation / std::tan(OccludingEdgeOptions{}.min_grazing_deg * kDeg);
+  double jump = bound;
+  for (int i = 0; i < 20; ++i) {  // the noise grows with the far range
+    const double far = near + jump;
+    jump = bound + sigmas * image.range_sigma_k * std::sqrt(std::pow(near, 4) + std::pow(far, 4));
+  }
+  const float push = float(near + jump) - image.range[std::size_t(19) * cols + column];
+  for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * cols + column] += push;
+}
+
+// A pair beyond the grazing bound by less than the grazing noise allowance
+// is grazing only beside a grazing pair of the same kind.
+TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
+  auto image = flatGroundImage(64, 64);
+  image.range_sigma_k = 2e-4;
+  for (int c = 24; c <= 40; ++c) pushBeyondTheGrazingBound(image, c, c == 32 ? 1.75 : 0.75);
+  for (int c = 50; c <= 54; ++c) pushBeyondTheGrazingBound(image, c, 0.75);
+
+  OccludingEdgeOptions off;
+  off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas;
+  const OccludingEdges strict(image, off);
+  const OccludingEdges edges(image);  // default: 1.5 sigma, or 0 beside a grazing pair
+  EXPECT_EQ(edges.edgePixelCount(), 0);
+  for (int c = 0; c < 63; ++c) {
+    // A row pair marks the quads left and right of it.
+    EXPECT_EQ(strict.quadIsGrazing(19, c), c == 31 || c == 32) << c;
+    EXPECT_EQ(edges.quadIsGrazing(19, c), c >= 30 && c <= 33) << c;
+    EXPECT_FALSE(edges.quadIsGrazing(10, c)) << c;
+  }
+  off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas + 0.5;
+  EXPECT_THROW(OccludingEdges(image, off), std::invalid_argument);
+}
+
 TEST(Binning, AveragesThePointsInEachCell) {
   const auto image = flatGroundImage(64, 64);
   const auto map = buildBinnedMap(image, GridSpec::covering({-2, 6, 2, 12}, 0.5));
