@@ -84,7 +84,8 @@ TEST(OccludingEdges, HysteresisKeepsWeakJumpsThatContinue) {
 void pushBeyondTheGrazingBound(sensor::RangeImage& image, int column, double sigmas) {
   const int cols = image.geometry.cols;
   const double near = image.range[std::size_t(20) * cols + column];
-  const double separation = std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
+  const double separation =
+      std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
   const double bound = near * separation / std::tan(OccludingEdgeOptions{}.min_grazing_deg * kDeg);
   double jump = bound;
   for (int i = 0; i < 20; ++i) {  // the noise grows with the far range
