@@ -74,6 +74,8 @@ nlohmann::json scoreJson(const terrain::MapScore& s) {
           {"shadow_precision_within_1_cell", optionalNumber(s.shadowPrecisionWithin1())},
           {"occluded_known", optionalNumber(s.occludedKnown())},
           {"occluded_known_far", s.occludedKnownFar()},
+          {"occluded_known_error_p50_m", optionalNumber(s.occludedKnownError(0.5))},
+          {"occluded_known_error_p95_m", optionalNumber(s.occludedKnownError(0.95))},
           {"sigma_calibration", optionalNumber(s.sigmaCalibration())},
           {"sigma_calibration_visible", optionalNumber(s.sigmaCalibrationVisible())},
           {"known_cells", s.knownCells()}};
@@ -179,7 +181,8 @@ constexpr const char* kTableKeys[] = {"rmse_m",
                                       "occluded_known_far",
                                       "sigma_calibration",
                                       "footholds_on_unseen_cells",
-                                      "sigma_calibration_visible"};
+                                      "sigma_calibration_visible",
+                                      "occluded_known_error_p95_m"};
 
 void printMethods(const std::string& prefix, const nlohmann::json& methods) {
   for (const auto& [name, m] : methods.items())

@@ -51,6 +51,8 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
           ++occluded_known_;
           occluded_known_far_ +=
               !near(g, r, c, [&](int rr, int cc) { return true_state(rr, cc) == 0; });
+          if (std::isfinite(true_height(r, c)))
+            occluded_known_errors_.push_back(std::abs(map.elevation(r, c) - true_height(r, c)));
         }
       }
       if (state != CellState::kKnown || !std::isfinite(true_height(r, c))) continue;
@@ -95,6 +97,14 @@ std::optional<double> MapScore::shadowPrecisionWithin1() const {
 
 std::optional<double> MapScore::occludedKnown() const {
   return ratio(double(occluded_known_), occluded_);
+}
+
+std::optional<double> MapScore::occludedKnownError(double q) const {
+  if (occluded_known_errors_.empty() || !(q >= 0.0 && q <= 1.0)) return std::nullopt;
+  auto errors = occluded_known_errors_;
+  const auto k = std::size_t(std::lround(q * double(errors.size() - 1)));
+  std::nth_element(errors.begin(), errors.begin() + long(k), errors.end());
+  return errors[k];
 }
 
 std::optional<double> MapScore::RatioSums::standardDeviation() const {

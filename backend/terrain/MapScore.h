@@ -1,6 +1,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "io/Image.h"
 #include "terrain/ElevationMap.h"
@@ -41,6 +42,9 @@ class MapScore {
   // visible cell within one cell.
   std::optional<double> occludedKnown() const;
   long occludedKnownFar() const { return occluded_known_far_; }
+  // How far off the made-up heights are: the q-quantile (0..1) of
+  // |elevation - true height| over the occluded cells reported known [m].
+  std::optional<double> occludedKnownError(double q) const;
   // Standard deviation of error / sigma over known cells with sigma > 0;
   // 1 when the sigmas are honest.
   std::optional<double> sigmaCalibration() const;
@@ -56,6 +60,7 @@ class MapScore {
   long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
   long occluded_ = 0, occluded_found_ = 0, shadow_ = 0, shadow_right_ = 0;
   long occluded_known_ = 0, occluded_known_far_ = 0;
+  std::vector<float> occluded_known_errors_;
   // Sums of error / sigma: over all known cells, and over the visible ones.
   struct RatioSums {
     double sum = 0.0, sum_sq = 0.0;

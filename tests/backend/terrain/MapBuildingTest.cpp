@@ -173,6 +173,25 @@ TEST(MapScore, ToleratesOneCellAtShadowBoundariesAndCountsMadeUpCells) {
   EXPECT_EQ(score.occludedKnownFar(), 1);
 }
 
+// The made-up heights' errors, by quantile: only occluded cells reported
+// known count, whatever the error of the cells that were seen.
+TEST(MapScore, QuantilesOfTheMadeUpHeightsErrors) {
+  ElevationMap map(GridSpec::covering({0, 0, 6, 1}, 1.0));
+  io::FloatImage height(1, 6, 0.0f);
+  io::ByteImage state(1, 6, 2);
+  state(0, 0) = 0;
+  map.setKnown(0, 0, 9.0, 0.1);  // seen: not counted
+  const float made_up[] = {0.0f, -0.1f, 0.2f, -0.4f, 0.3f};
+  for (int c = 1; c < 6; ++c) map.setKnown(0, c, made_up[c - 1], 0.1);
+  MapScore score;
+  EXPECT_FALSE(score.occludedKnownError(0.5));
+  score.add(map, height, state);
+  EXPECT_FLOAT_EQ(*score.occludedKnownError(0.0), 0.0f);
+  EXPECT_FLOAT_EQ(*score.occludedKnownError(0.5), 0.2f);
+  EXPECT_FLOAT_EQ(*score.occludedKnownError(1.0), 0.4f);
+  EXPECT_FALSE(score.occludedKnownError(1.5));
+}
+
 // A made-up height in a shadow, far off against its sigma, spoils the
 // calibration of all cells but not that of the cells that were seen.
 TEST(MapScore, CalibratesSigmaOverVisibleCellsApart) {
