@@ -51,14 +51,13 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
           ++occluded_known_;
           occluded_known_far_ +=
               !near(g, r, c, [&](int rr, int cc) { return true_state(rr, cc) == 0; });
-          if (std::isfinite(true_height(r, c)))
-            occluded_known_errors_.push_back(std::abs(map.elevation(r, c) - true_height(r, c)));
         }
       }
       if (state != CellState::kKnown || !std::isfinite(true_height(r, c))) continue;
       visible_known_ += truth == 0;
       const double error = double(map.elevation(r, c)) - true_height(r, c);
       sum_sq_ += error * error;
+      if (truth == 2) occluded_known_errors_.push_back(float(std::abs(error)));
       ++known_;
       const double sigma = map.sigma(r, c);
       if (score_sigma && sigma > 0 && std::isfinite(sigma)) {

@@ -9,17 +9,17 @@ namespace ambler::terrain {
 
 namespace {
 
-// True when the ranges of two pixels with returns, `separation` radians
-// apart, cannot belong to one continuous surface. `near_slope` is the range
-// change between the nearer pixel and its neighbour on the far side from
-// the other pixel (0 when unavailable): an occluder is seen at a steeper
-// angle than the jump behind it, while a continuous grazing surface changes
-// range at a similar rate on both sides.
 // What a pair of pixels is. The weak levels are beyond only the smaller,
 // hysteresis allowance; they count when the same kind of pair beside them
 // along the image is an edge or grazing.
 enum Level : std::uint8_t { kContinuous, kWeakEdge, kEdge, kGrazing, kWeakGrazing };
 
+// The level of two pixels with returns, `separation` radians apart: whether
+// their ranges can belong to one continuous surface. `near_slope` is the
+// range change between the nearer pixel and its neighbour on the far side
+// from the other pixel (0 when unavailable): an occluder is seen at a
+// steeper angle than the jump behind it, while a continuous grazing surface
+// changes range at a similar rate on both sides.
 struct JumpTest {
   double inv_tan_grazing;
   double step_ratio;
@@ -56,16 +56,15 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
   // An uncontinued weak jump counts as grazing, which is only right when it
   // is beyond the grazing allowance too.
   const double weak_sigmas = std::min(options.weak_noise_sigmas, options.noise_sigmas);
-  if (options.mark_grazing && options.grazing_noise_sigmas > weak_sigmas)
-    throw std::invalid_argument("the grazing noise allowance (" +
-                                std::to_string(options.grazing_noise_sigmas) +
-                                " sigma) must not exceed the weak edge allowance (" +
-                                std::to_string(weak_sigmas) + " sigma)");
-  if (options.mark_grazing && options.weak_grazing_noise_sigmas > options.grazing_noise_sigmas)
-    throw std::invalid_argument("the weak grazing noise allowance (" +
-                                std::to_string(options.weak_grazing_noise_sigmas) +
-                                " sigma) must not exceed the grazing allowance (" +
-                                std::to_string(options.grazing_noise_sigmas) + " sigma)");
+  auto requireAtMost = [&](double sigmas, const char* what, double limit, const char* limit_what) {
+    if (options.mark_grazing && sigmas > limit)
+      throw std::invalid_argument(std::string("the ") + what + " noise allowance (" +
+                                  std::to_string(sigmas) + " sigma) must not exceed the " +
+                                  limit_what + " allowance (" + std::to_string(limit) + " sigma)");
+  };
+  requireAtMost(options.grazing_noise_sigmas, "grazing", weak_sigmas, "weak edge");
+  requireAtMost(options.weak_grazing_noise_sigmas, "weak grazing", options.grazing_noise_sigmas,
+                "grazing");
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
@@ -187,13 +186,10 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       for (int kind = 0; kind < 4; ++kind) {
         const Level l = levelOf(r, c, kind);
         if (l == kContinuous) continue;
-        if (l == kWeakGrazing) {
-          if (options.mark_grazing && continued(r, c, kind, isEdgeOrGrazing))
+        if (l == kGrazing || l == kWeakGrazing ||
+            (l == kWeakEdge && !continued(r, c, kind, isEdge))) {
+          if (options.mark_grazing && (l != kWeakGrazing || continued(r, c, kind, isEdgeOrGrazing)))
             mark(r, c, kind, kGrazingQuad);
-          continue;
-        }
-        if (l == kGrazing || (l == kWeakEdge && !continued(r, c, kind, isEdge))) {
-          if (options.mark_grazing) mark(r, c, kind, kGrazingQuad);
           continue;
         }
         const int r1 = kind == 0 ? r : r + 1;
