@@ -81,6 +81,10 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "a smaller allowance [std. dev.] for pairs beside a grazing pair or an edge")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--oblique-shadow-far-ends", locus.oblique_shadow_far_ends,
+                 "with --oblique-shadow-sides, so are the known cells one and two steps beyond a "
+                 "shadow along the line of sight (true/false)")
+      ->capture_default_str();
   cmd.add_option("--oblique-shadow-sides", locus.oblique_shadow_sides,
                  "known cells beside a shadow across the line of sight are oblique (true/false)")
       ->capture_default_str();

@@ -848,32 +848,49 @@ int nextInView(const LocusSolver& solver, const GridSpec& grid, int r, int c, do
   return grid.cols;
 }
 
+// lround(step * a / |(a, b)|), compared in squares: this runs for every
+// shadow cell, and the root and the rounding calls were a measurable share.
+int roundedStep(double a, double b, int step) {
+  const double a2 = a * a, n2 = a2 + b * b, s2 = double(step * step) * a2;
+  int m = 0;
+  while (m < step && s2 >= (m + 0.5) * (m + 0.5) * n2) ++m;
+  return a < 0 ? -m : m;
+}
+
 // A shadow's sides, where the occluder's silhouette ends and its range jump
 // fades below the edge test, are where interpolated heights meet unseen
 // ground: a known cell whose neighbour across the line of sight from
-// `sensor` (either side) is shadow becomes oblique, its height kept.
-void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor) {
+// `sensor` (either side) is shadow becomes oblique, its height kept. With
+// `far_ends`, so do the known cells one and two steps beyond a shadow along
+// the line of sight: a hidden floor's far end, which interpolation gives
+// the height of the far wall's face.
+void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bool far_ends) {
   const GridSpec& g = map.grid();
   // Read as it changes: only known cells change, and only to oblique.
   const Layer& state = map.layer(layer::kState);
+  auto known = [&](int r, int c) {
+    return r >= 0 && r < g.rows && c >= 0 && c < g.cols && state(r, c) == float(CellState::kKnown);
+  };
+  auto makeOblique = [&](int r, int c) {
+    if (known(r, c))
+      map.setHeight(r, c, CellState::kOblique, map.elevation(r, c), map.sigma(r, c),
+                    map.count(r, c));
+  };
   // From each shadow cell to its known neighbours: far fewer than the
   // known cells, most of which have no shadow near.
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
       if (state(r, c) != float(CellState::kShadow)) continue;
-      for (int i = -1; i <= 1; ++i)
-        for (int j = -1; j <= 1; ++j) {
-          const int nr = r + i, nc = c + j;
-          if (nr < 0 || nr >= g.rows || nc < 0 || nc >= g.cols ||
-              state(nr, nc) != float(CellState::kKnown))
-            continue;
-          const Eigen::Vector2d along = (g.cellCenter(nr, nc) - sensor).normalized();
-          // The unit step across the line of sight, rounded to a neighbour: (-y, x).
-          const int dr = int(std::lround(along.x())), dc = -int(std::lround(along.y()));
-          if ((i == dr && j == dc) || (i == -dr && j == -dc))
-            map.setHeight(nr, nc, CellState::kOblique, map.elevation(nr, nc), map.sigma(nr, nc),
-                          map.count(nr, nc));
-        }
+      // The line of sight, and the step across it (-y, x), rounded to neighbours.
+      const Eigen::Vector2d along = g.cellCenter(r, c) - sensor;
+      const int dr = roundedStep(along.x(), along.y(), 1);
+      const int dc = -roundedStep(along.y(), along.x(), 1);
+      makeOblique(r + dr, c + dc);
+      makeOblique(r - dr, c - dc);
+      if (!far_ends) continue;
+      for (const int step : {1, 2})
+        makeOblique(r + roundedStep(along.y(), along.x(), step),
+                    c + roundedStep(along.x(), along.y(), step));
     }
 }
 
@@ -907,7 +924,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
     }
   }
   if (options.oblique_shadow_sides)
-    markShadowSidesOblique(map, image.sensor_to_world.translation().head<2>());
+    markShadowSidesOblique(map, image.sensor_to_world.translation().head<2>(),
+                           options.oblique_shadow_far_ends);
   return map;
 }
 

@@ -24,6 +24,10 @@ struct LocusOptions {
   // interpolation meets unseen ground) become oblique (README, elevation
   // maps).
   bool oblique_shadow_sides = true;
+  // And so do the known cells one and two steps beyond a shadow along the
+  // line of sight, where a hidden floor meets the far wall's interpolated
+  // face.
+  bool oblique_shadow_far_ends = true;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
 };
 

@@ -286,6 +286,40 @@ TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
   EXPECT_THROW(buildLocusMap(image, grid, grazing_oblique), std::invalid_argument);
 }
 
+// Every cell whose state differs between the maps was known and is oblique,
+// its height kept, and `why(r, c)` holds for it; returns how many differ.
+template <class Why>
+int countKnownTurnedOblique(const ElevationMap& before, const ElevationMap& after, Why why) {
+  int changed = 0;
+  for (int r = 0; r < before.grid().rows; ++r)
+    for (int c = 0; c < before.grid().cols; ++c) {
+      if (after.state(r, c) == before.state(r, c)) continue;
+      ++changed;
+      EXPECT_EQ(after.state(r, c), CellState::kOblique) << r << ", " << c;
+      EXPECT_EQ(before.state(r, c), CellState::kKnown) << r << ", " << c;
+      EXPECT_EQ(after.elevation(r, c), before.elevation(r, c)) << r << ", " << c;
+      EXPECT_TRUE(why(r, c)) << r << ", " << c;
+    }
+  return changed;
+}
+
+// Whether a neighbour of (r, c) is shadow and has (r, c) across the line
+// of sight from `sensor`, one step either side, rounded to a neighbour.
+bool shadowBeside(const ElevationMap& map, const Eigen::Vector2d& sensor, int r, int c) {
+  const GridSpec& g = map.grid();
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j) {
+      const int sr = r + i, sc = c + j;
+      if (sr < 0 || sr >= g.rows || sc < 0 || sc >= g.cols ||
+          map.state(sr, sc) != CellState::kShadow)
+        continue;
+      const Eigen::Vector2d along = (g.cellCenter(sr, sc) - sensor).normalized();
+      const int dr = int(std::lround(along.x())), dc = -int(std::lround(along.y()));
+      if ((i == dr && j == dc) || (i == -dr && j == -dc)) return true;
+    }
+  return false;
+}
+
 // A rock field (a tuning seed) seen from 1.5 m: where a rock's silhouette
 // ends, its range jump fades below the edge test, and the cells beside its
 // shadow are interpolated across ground nobody saw. Those cells become
@@ -294,32 +328,74 @@ TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
 TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   const auto [at, image, grid, truth] = lowScan(sim::TerrainFamily::kRockField, 2, {-8, 3, 8, 19});
 
-  LocusOptions plain;
+  LocusOptions plain, sides;
   plain.oblique_shadow_sides = false;
+  sides.oblique_shadow_far_ends = false;  // KnownCellsBeyondAShadowBecomeOblique
   const auto before = buildLocusMap(image, grid, plain);
-  const auto after = buildLocusMap(image, grid);  // the default: sides oblique
-  int changed = 0, occluded_known_before = 0, occluded_known_after = 0;
+  const auto after = buildLocusMap(image, grid, sides);
+  int occluded_known_before = 0, occluded_known_after = 0;
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c) {
       const bool occluded = truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
       occluded_known_before += occluded && before.isKnown(r, c);
       occluded_known_after += occluded && after.isKnown(r, c);
-      if (after.state(r, c) == before.state(r, c)) continue;
-      ++changed;
-      ASSERT_EQ(after.state(r, c), CellState::kOblique);
-      ASSERT_EQ(before.state(r, c), CellState::kKnown);
-      EXPECT_EQ(after.elevation(r, c), before.elevation(r, c));
-      const Eigen::Vector2d along = (grid.cellCenter(r, c) - at.head<2>()).normalized();
-      const int dr = int(std::lround(along.x())), dc = -int(std::lround(along.y()));
-      auto shadowAt = [&](int rr, int cc) {
-        return rr >= 0 && rr < grid.rows && cc >= 0 && cc < grid.cols &&
-               before.state(rr, cc) == CellState::kShadow;
-      };
-      EXPECT_TRUE(shadowAt(r + dr, c + dc) || shadowAt(r - dr, c - dc)) << r << ", " << c;
     }
-  EXPECT_GT(changed, 100);
+  EXPECT_GT(
+      countKnownTurnedOblique(
+          before, after, [&](int r, int c) { return shadowBeside(before, at.head<2>(), r, c); }),
+      100);
   EXPECT_GT(occluded_known_before, 10);
   EXPECT_LT(occluded_known_after, occluded_known_before / 2);  // 17 to 3
+}
+
+// Whether a shadow cell lies within two cells of (r, c) and nearer `sensor`.
+bool shadowNearer(const ElevationMap& map, const Eigen::Vector2d& sensor, int r, int c) {
+  const GridSpec& g = map.grid();
+  const double d = (g.cellCenter(r, c) - sensor).norm();
+  for (int nr = std::max(r - 2, 0); nr <= std::min(r + 2, g.rows - 1); ++nr)
+    for (int nc = std::max(c - 2, 0); nc <= std::min(c + 2, g.cols - 1); ++nc)
+      if (map.state(nr, nc) == CellState::kShadow && (g.cellCenter(nr, nc) - sensor).norm() < d)
+        return true;
+  return false;
+}
+
+// Where a trench hides its floor, the ground just beyond the shadow along
+// the line of sight is the foot of the far wall, and interpolation gives
+// the hidden floor there the wall's height. The known cells one and two
+// steps beyond a shadow become oblique: every cell that changes was known,
+// keeps its height, and has shadow within two cells nearer the scanner.
+TEST(Locus, KnownCellsBeyondAShadowBecomeOblique) {
+  // A tuning seed from 3 m up under noise (k = 5e-4), as eval elevation scans it.
+  const sim::ProceduralTerrain terrain(
+      sim::makeFamilyTerrain(sim::TerrainFamily::kNegativeObstacles, 1));
+  const sim::RayCaster caster(terrain);
+  auto m = scanner(5e-4);
+  m.geometry = sensor::ScanGeometry::symmetric(256, 256, 30 * kDeg, 60 * kDeg);
+  m.mount_height = 3;
+  m.tilt = 25 * kDeg;
+  const Eigen::Vector3d at{0, 0, terrain.height(0, 0)};
+  const auto pose = m.mountPose(at);
+  const GridSpec grid = GridSpec::covering({-10, 3, 10, 23}, 0.05);
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  LocusOptions sides;
+  sides.oblique_shadow_far_ends = false;
+  const auto before = buildLocusMap(image, grid, sides);
+  const auto after = buildLocusMap(image, grid);  // the default: far ends oblique too
+  int made_up_before = 0, made_up_after = 0;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const bool occluded = truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
+      const bool off = std::abs(before.elevation(r, c) - truth.height(r, c)) > 0.2;
+      made_up_before += occluded && off && before.isKnown(r, c);
+      made_up_after += occluded && off && after.isKnown(r, c);
+    }
+  EXPECT_GT(
+      countKnownTurnedOblique(
+          before, after, [&](int r, int c) { return shadowNearer(before, at.head<2>(), r, c); }),
+      20);
+  EXPECT_GT(made_up_before, 50);
+  EXPECT_LT(made_up_after, made_up_before / 2);  // 118 to 31
 }
 
 // (error / sigma)^2 summed over the cells with a height (known or oblique:
