@@ -204,6 +204,9 @@ class LocusSolver {
   double rangeAt(int upper, int lower, double u, double col, int& quad_col) const;
   double noiseOfRange(int upper, int lower, double u, double col) const;
   double imageRangeOnRow(int row, double col) const;
+  bool passesInFreeSpace(const RowSample& n) const;
+  int firstReturnBelow(const Line& line, int down, RowSample s) const;
+  CellState hiddenBelowFreeSpace(RowSample s, RowSample n, double& stop_t) const;
   HeightNoise sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
                             int quad_col) const;
   double samplingSigma(int quad_row, int quad_col) const;
@@ -233,6 +236,7 @@ class LocusSolver {
   // The image's ranges with NaN where a pixel has no return, so that an
   // interpolation that uses such a pixel is NaN without a test.
   std::vector<float> range_;
+  double farthest_return_ = 0.0;        // the sensor reaches at least this far [m]
   std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
@@ -273,7 +277,10 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
   range_.assign(std::size_t(g_.rows) * g_.cols, NAN);
   for (int r = 0; r < g_.rows; ++r)
     for (int c = 0; c < g_.cols; ++c)
-      if (hasReturn(r, c)) range_[std::size_t(r) * g_.cols + c] = image_.at(r, c);
+      if (hasReturn(r, c)) {
+        range_[std::size_t(r) * g_.cols + c] = image_.at(r, c);
+        farthest_return_ = std::max(farthest_return_, double(image_.at(r, c)));
+      }
   // Every pixel's point in the world (eq. 1 and the pose), from the
   // per-row and per-column sines instead of three sin/cos per pixel.
   const Eigen::Matrix3d rotation = image.sensor_to_world.linear();
@@ -428,6 +435,35 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   return s;
 }
 
+// A row sample on the image whose nearest pixel has no return, nearer than
+// the sensor reaches: the ray went past the line point without a hit.
+bool LocusSolver::passesInFreeSpace(const RowSample& n) const {
+  if (!n.at.on_image || !(n.at.rho < farthest_return_)) return false;
+  const int c = std::clamp(int(n.at.col + 0.5), 0, g_.cols - 1);
+  return std::isnan(range_[std::size_t(n.row) * g_.cols + c]);
+}
+
+// The row of the first sample with a return down the line from one in free
+// space, or -1. Out of line, as is hiddenBelowFreeSpace: both are rare,
+// and kept off walk()'s path.
+[[gnu::noinline]] int LocusSolver::firstReturnBelow(const Line& line, int down, RowSample s) const {
+  for (int row = s.row + down; passesInFreeSpace(s) && row >= 0 && row < g_.rows; row += down) {
+    s = sampleRow(line, row);
+    if (s.ok) return row;
+  }
+  return -1;
+}
+
+// The line is hidden at `s` and `n`, the next sample up, has no return: if
+// n's ray passed the line in free space, the ground lies lower, for on a
+// height field all of a line below a hidden point is hidden too.
+[[gnu::noinline]] CellState LocusSolver::hiddenBelowFreeSpace(RowSample s, RowSample n,
+                                                              double& stop_t) const {
+  if (!(s.delta > 0 && passesInFreeSpace(n))) return CellState::kUnknown;
+  stop_t = s.at.t;
+  return CellState::kShadow;
+}
+
 int LocusSolver::startRow(const Line& line, double z) const {
   const Eigen::Vector3d p = line.a + z * line.b;
   double row = rowOf(p.y(), p.z());
@@ -443,11 +479,19 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
                             bool& out_of_view) const {
   RowSample s = sampleRow(line, row);
   out_of_view = !s.at.on_image;
-  if (!s.ok) return CellState::kUnknown;
+  if (!s.ok) {
+    // Started where a ray met nothing: on from the first return below,
+    // which, if the line is hidden there, walks up to that ray again.
+    row = s.at.on_image ? firstReturnBelow(line, down, s) : -1;
+    if (row < 0) return CellState::kUnknown;
+    s = sampleRow(line, row);
+  }
   const int step = s.delta < 0 ? down : -down;
   for (int next = row + step; next >= 0 && next < g_.rows; next += step) {
     const RowSample n = sampleRow(line, next);
-    if (!n.ok) return CellState::kUnknown;
+    if (!n.ok)
+      return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(s, n, stop_t)
+                                          : CellState::kUnknown;
     if ((n.delta < 0) != (s.delta < 0)) {
       bracket = s.delta < 0 ? Bracket{s, n} : Bracket{n, s};
       return CellState::kKnown;

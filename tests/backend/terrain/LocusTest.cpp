@@ -114,12 +114,27 @@ struct MappedScan {
   ElevationMap map;
   sim::VisibilityTruth truth;
 };
-MappedScan scanAndMap(const sim::Terrain& terrain, const GridSpec& grid) {
+MappedScan scanAndMap(const sim::Terrain& terrain, const GridSpec& grid,
+                      const sim::ScannerModel& m = scanner(0.0)) {
   const sim::RayCaster caster(terrain);
-  const auto m = scanner(0.0);
   const auto pose = m.mountPose({0, 0, 0});
   return {buildLocusMap(sim::simulateScan(caster, m, pose, 1), grid),
           sim::computeVisibility(caster, m, pose, grid)};
+}
+
+// Every cell along x from y_from to y_to is occluded in truth and shadow in
+// the map; returns how many cells that is.
+int expectShadowAlong(const MappedScan& scan, double x, double y_from, double y_to) {
+  int cells = 0;
+  for (double y = y_from; y < y_to; y += scan.map.grid().resolution, ++cells) {
+    const auto cell = scan.map.grid().cellAt(x, y);
+    EXPECT_TRUE(cell) << y;
+    if (!cell) continue;
+    EXPECT_EQ(scan.truth.state(cell->row, cell->col), std::uint8_t(sim::Visibility::kOccluded))
+        << y;
+    EXPECT_EQ(scan.map.state(cell->row, cell->col), CellState::kShadow) << y;
+  }
+  return cells;
 }
 
 // Every cell the truth has out of view and `where` picks is not shadow;
@@ -159,17 +174,33 @@ TEST(Locus, GroundBehindATallObstacleAtTheFarEdgeIsShadow) {
   sim::TerrainDescription d;
   d.extent = {-100, -100, 100, 100};
   d.features.push_back(sim::BoxObstacle{{0.0, 14.0, 0.0, 1.0, 0.25}, 4.0});
-  const auto [map, truth] =
-      scanAndMap(sim::ProceduralTerrain(d), GridSpec::covering({-4, 12, 4, 21}, 0.1));
-  for (double y = 14.5; y < 18.5; y += 0.1) {
-    const auto cell = map.grid().cellAt(0.05, y);
-    ASSERT_TRUE(cell);
-    EXPECT_EQ(truth.state(cell->row, cell->col), std::uint8_t(sim::Visibility::kOccluded)) << y;
-    EXPECT_EQ(map.state(cell->row, cell->col), CellState::kShadow) << y;
-  }
+  const auto scan = scanAndMap(sim::ProceduralTerrain(d), GridSpec::covering({-4, 12, 4, 21}, 0.1));
+  EXPECT_EQ(expectShadowAlong(scan, 0.05, 14.5, 18.5), 40);
+  EXPECT_GT(expectOutOfViewIsNotShadow(scan.map, scan.truth,
+                                       [](const auto& p) { return std::abs(p.x()) > 2.5; }),
+            100);
+}
+
+// A 1 m box 8 m in front of a scanner 1.5 m up whose rays reach 20 m: the
+// rays just over its top would meet the ground 24 m off and return
+// nothing. The lines through the ground behind the box are hidden up to
+// such a ray, which passed them in free space, so their ground lies lower,
+// hidden: shadow, out to the 20 m the truth counts as in view.
+TEST(Locus, GroundHiddenBelowRaysThatMetNothingIsShadow) {
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::BoxObstacle{{0.0, 8.25, 0.0, 1.0, 0.25}, 1.0});
+  auto m = scanner(0.0);
+  m.max_range = 20;
+  m.mount_height = 1.5;
+  m.tilt = 12 * kDeg;
+  const auto scan =
+      scanAndMap(sim::ProceduralTerrain(d), GridSpec::covering({-4, 6, 4, 22}, 0.1), m);
+  EXPECT_GT(expectShadowAlong(scan, 0.05, 9.0, 19.4), 100);
+  // Beside the box the ground beyond 20 m is out of view, not shadow.
   EXPECT_GT(
-      expectOutOfViewIsNotShadow(map, truth, [](const auto& p) { return std::abs(p.x()) > 2.5; }),
-      100);
+      expectOutOfViewIsNotShadow(scan.map, scan.truth, [](const auto& p) { return p.y() > 20.5; }),
+      500);
 }
 
 // krotkov1989 §3.2, note 5: far from a low sensor the scanlines meet the
