@@ -206,7 +206,7 @@ class LocusSolver {
   double imageRangeOnRow(int row, double col) const;
   bool passesInFreeSpace(const RowSample& n) const;
   int firstReturnBelow(const Line& line, int down, RowSample s) const;
-  CellState hiddenBelowFreeSpace(RowSample s, RowSample n, double& stop_t) const;
+  CellState hiddenBelowFreeSpace(RowSample n, double hidden_t, double& stop_t) const;
   HeightNoise sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
                             int quad_col) const;
   double samplingSigma(int quad_row, int quad_col) const;
@@ -454,13 +454,14 @@ bool LocusSolver::passesInFreeSpace(const RowSample& n) const {
   return -1;
 }
 
-// The line is hidden at `s` and `n`, the next sample up, has no return: if
-// n's ray passed the line in free space, the ground lies lower, for on a
-// height field all of a line below a hidden point is hidden too.
-[[gnu::noinline]] CellState LocusSolver::hiddenBelowFreeSpace(RowSample s, RowSample n,
+// The line is hidden at height `hidden_t` and `n`, the next sample up, has
+// no return: if n's ray passed the line in free space, the ground lies
+// lower, for on a height field all of a line below a hidden point is
+// hidden too.
+[[gnu::noinline]] CellState LocusSolver::hiddenBelowFreeSpace(RowSample n, double hidden_t,
                                                               double& stop_t) const {
-  if (!(s.delta > 0 && passesInFreeSpace(n))) return CellState::kUnknown;
-  stop_t = s.at.t;
+  if (!passesInFreeSpace(n)) return CellState::kUnknown;
+  stop_t = hidden_t;
   return CellState::kShadow;
 }
 
@@ -490,7 +491,7 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   for (int next = row + step; next >= 0 && next < g_.rows; next += step) {
     const RowSample n = sampleRow(line, next);
     if (!n.ok)
-      return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(s, n, stop_t)
+      return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(n, s.at.t, stop_t)
                                           : CellState::kUnknown;
     if ((n.delta < 0) != (s.delta < 0)) {
       bracket = s.delta < 0 ? Bracket{s, n} : Bracket{n, s};
@@ -912,11 +913,8 @@ void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bo
   const GridSpec& g = map.grid();
   // Read as it changes: only known cells change, and only to oblique.
   const Layer& state = map.layer(layer::kState);
-  auto known = [&](int r, int c) {
-    return r >= 0 && r < g.rows && c >= 0 && c < g.cols && state(r, c) == float(CellState::kKnown);
-  };
   auto makeOblique = [&](int r, int c) {
-    if (known(r, c))
+    if (r >= 0 && r < g.rows && c >= 0 && c < g.cols && state(r, c) == float(CellState::kKnown))
       map.setHeight(r, c, CellState::kOblique, map.elevation(r, c), map.sigma(r, c),
                     map.count(r, c));
   };

@@ -317,6 +317,17 @@ TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
   EXPECT_THROW(buildLocusMap(image, grid, grazing_oblique), std::invalid_argument);
 }
 
+// How many truly occluded cells `map` reports known, with a height more
+// than `off_by` [m] from the truth.
+int occludedKnown(const ElevationMap& map, const sim::VisibilityTruth& truth, double off_by = -1) {
+  int n = 0;
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c)
+      n += truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded) && map.isKnown(r, c) &&
+           std::abs(map.elevation(r, c) - truth.height(r, c)) > off_by;
+  return n;
+}
+
 // Every cell whose state differs between the maps was known and is oblique,
 // its height kept, and `why(r, c)` holds for it; returns how many differ.
 template <class Why>
@@ -364,13 +375,8 @@ TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   sides.oblique_shadow_far_ends = false;  // KnownCellsBeyondAShadowBecomeOblique
   const auto before = buildLocusMap(image, grid, plain);
   const auto after = buildLocusMap(image, grid, sides);
-  int occluded_known_before = 0, occluded_known_after = 0;
-  for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c) {
-      const bool occluded = truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
-      occluded_known_before += occluded && before.isKnown(r, c);
-      occluded_known_after += occluded && after.isKnown(r, c);
-    }
+  const int occluded_known_before = occludedKnown(before, truth);
+  const int occluded_known_after = occludedKnown(after, truth);
   EXPECT_GT(
       countKnownTurnedOblique(
           before, after, [&](int r, int c) { return shadowBeside(before, at.head<2>(), r, c); }),
@@ -413,14 +419,8 @@ TEST(Locus, KnownCellsBeyondAShadowBecomeOblique) {
   sides.oblique_shadow_far_ends = false;
   const auto before = buildLocusMap(image, grid, sides);
   const auto after = buildLocusMap(image, grid);  // the default: far ends oblique too
-  int made_up_before = 0, made_up_after = 0;
-  for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c) {
-      const bool occluded = truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
-      const bool off = std::abs(before.elevation(r, c) - truth.height(r, c)) > 0.2;
-      made_up_before += occluded && off && before.isKnown(r, c);
-      made_up_after += occluded && off && after.isKnown(r, c);
-    }
+  const int made_up_before = occludedKnown(before, truth, 0.2);
+  const int made_up_after = occludedKnown(after, truth, 0.2);
   EXPECT_GT(
       countKnownTurnedOblique(
           before, after, [&](int r, int c) { return shadowNearer(before, at.head<2>(), r, c); }),
