@@ -107,6 +107,19 @@ def summary(rows, name):
     return out
 
 
+def information_bound(pairs):
+    """bound.py's figures for each overlapping pair, and the successes to expect at it."""
+    import bound
+    twins = bound.noise_free_twin(pairs)
+    clean = {p["name"]: p for p in json.load(open(os.path.join(twins, "pairs.json")))["pairs"]}
+    out = {}
+    for p in pairs["pairs"]:
+        if not p["foreign"]:
+            _, error, chance = bound.bound(p, clean[p["name"]])
+            out[p["name"]] = {"bound_pct": 100 * error / p["distance_m"], "chance": chance}
+    return {"pairs": out, "expected_successes": sum(v["chance"] for v in out.values())}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tuning", action="store_true", help="the tuning pairs (seeds from 1)")
@@ -114,6 +127,9 @@ def main():
     ap.add_argument("--foreign", type=int, default=6, help="pairs of two different terrains")
     ap.add_argument("--pairs", help="an existing sim-pairs folder instead of generating one")
     ap.add_argument("--no-open3d", action="store_true", help="only ambler-cli")
+    ap.add_argument("--no-bound", action="store_true",
+                    help="without the information bound's line (bound.py; makes the pairs' "
+                         "noise-free twin)")
     # Open3D's settings: the best of voxel 0.1/0.2 m x distance 0.3/0.5/1 m on
     # the tuning pairs (10 of 24 levelled pairs within bounds at 0.1/0.3).
     ap.add_argument("--o3d-voxel", type=float, default=0.1, help="Open3D's thinning [m]")
@@ -160,10 +176,11 @@ def main():
                       f"{r['verdict']:10s} {r['s']:.3f} s", file=sys.stderr)
 
     table = [summary(rows, name) for name in methods]
+    limit = None if args.no_bound else information_bound(pairs)
     if args.json:
         with open(args.json, "w") as out:
-            json.dump({"set": pairs["set"], "pairs": folder, "summary": table, "rows": rows},
-                      out, indent=1, default=lambda v: v.item())
+            json.dump({"set": pairs["set"], "pairs": folder, "summary": table, "rows": rows,
+                       "bound": limit}, out, indent=1, default=lambda v: v.item())
     print(f"{pairs['set']} pairs: {len([p for p in pairs['pairs'] if not p['foreign']])} "
           f"overlapping + {len([p for p in pairs['pairs'] if p['foreign']])} of two terrains")
     print("| method | error % of distance, median / max (levelled; world) | successes, "
@@ -179,6 +196,10 @@ def main():
               f"{lv['trusted_but_out_of_bounds'] + wd['trusted_but_out_of_bounds']} | "
               f"{lv['foreign_refused'] + wd['foreign_refused']}/{lv['foreign'] + wd['foreign']} | "
               f"{lv['s_median']:.3f} s |")
+    if limit:
+        print(f"An estimator at the information bound (bound.py: both surfaces known) would "
+              f"land on {limit['expected_successes']:.1f} of {len(limit['pairs'])} pairs "
+              f"({100 * limit['expected_successes'] / len(limit['pairs']):.0f} %).")
 
 
 if __name__ == "__main__":
