@@ -13,9 +13,10 @@ scanner, times sqrt(2) because the target is as noisy as the source, is
 printed as a share of the distance between the scanners, next to the 1 %
 success line of compare.py.
 
-Optimistic still: a real method must estimate both surfaces from the noisy
-points. A pair whose bound is near or above 1 % is beyond any method more
-often than not; a method far above the bound is short of what the data hold.
+Also printed: the chance that an estimate at the bound (Gaussian, that
+covariance) meets compare.py's rule. Optimistic still: a real method must
+estimate both surfaces from the noisy points. A method far above the bound
+is short of what the data hold.
 
   build/bin/ambler-cli sim-pairs --out /tmp/pairs    # evaluation pairs (--tuning for the others)
   /usr/bin/python3 bench/registration/bound.py /tmp/pairs/pairs.json
