@@ -75,15 +75,31 @@ def normals(points, cells=(0.2, 0.4, 0.8, 1.6), least=6):
     return out
 
 
-def noise_free_twin(pairs):
-    """The pairs' folder made again without range noise (same seeds, rays and order)."""
-    folder = tempfile.mkdtemp(prefix="ambler-pairs-clean-")
+def noise_free_twin(pairs, folder):
+    """The pairs made again in `folder` without range noise (same seeds, rays and order)."""
     foreign = sum(p["foreign"] for p in pairs["pairs"])
     cmd = [CLI, "sim-pairs", "--out", folder, "--noise", "0", "--count",
            str(len(pairs["pairs"]) - foreign), "--foreign", str(foreign)]
     subprocess.run(cmd + (["--tuning"] if pairs["set"] == "tuning" else []), check=True,
                    capture_output=True)
-    return folder
+
+
+def pair_bounds(pairs, clean=None):
+    """For each overlapping pair: the pair, points in the overlap, bound [m], bound as a
+    share of the distance [%] and chance of landing; `clean` is the noise-free twin's
+    folder, made (and removed) here when None."""
+    with tempfile.TemporaryDirectory(prefix="ambler-pairs-clean-") as made:
+        if clean is None:
+            noise_free_twin(pairs, made)
+            clean = made
+        twins = {p["name"]: p for p in json.load(open(os.path.join(clean, "pairs.json")))["pairs"]}
+        rows = []
+        for pair in pairs["pairs"]:
+            if not pair["foreign"]:
+                points, error, chance = bound(pair, twins[pair["name"]])
+                rows.append({"pair": pair, "points": points, "bound_m": error,
+                             "bound_pct": 100 * error / pair["distance_m"], "chance": chance})
+        return rows
 
 
 def bound(pair, clean_pair):
@@ -132,20 +148,15 @@ def main():
     ap.add_argument("--clean", help="the same pairs made with --noise 0 (made here when absent)")
     args = ap.parse_args()
     pairs = json.load(open(args.pairs))
-    clean = args.clean or noise_free_twin(pairs)
-    twins = {p["name"]: p for p in json.load(open(os.path.join(clean, "pairs.json")))["pairs"]}
-    rows = []
-    for pair in pairs["pairs"]:
-        if pair["foreign"]:
-            continue
-        points, error, chance = bound(pair, twins[pair["name"]])
-        share = 100 * error / pair["distance_m"]
-        rows.append((share, chance))
+    rows = pair_bounds(pairs, args.clean)
+    for row in rows:
+        pair = row["pair"]
         print(f"{pair['name']} {pair['family']:9s} k={pair['noise_k']:<8g} "
-              f"{pair['distance_m']:.2f} m apart, {points:6d} points in the overlap: "
-              f"bound {1000 * error:5.1f} mm, {share:.3f} % of the distance, "
-              f"lands with chance {chance:.2f}")
-    shares, chances = np.array(rows).T
+              f"{pair['distance_m']:.2f} m apart, {row['points']:6d} points in the overlap: "
+              f"bound {1000 * row['bound_m']:5.1f} mm, {row['bound_pct']:.3f} % of the distance, "
+              f"lands with chance {row['chance']:.2f}")
+    shares = np.array([r["bound_pct"] for r in rows])
+    chances = np.array([r["chance"] for r in rows])
     print(f"bound over {len(rows)} pairs: median {np.median(shares):.3f} %, max "
           f"{shares.max():.3f} %; above 0.5 %: {np.count_nonzero(shares > 0.5)}, above 1 %: "
           f"{np.count_nonzero(shares > 1)}; an estimator at the bound lands on "

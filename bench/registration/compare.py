@@ -110,13 +110,8 @@ def summary(rows, name):
 def information_bound(pairs):
     """bound.py's figures for each overlapping pair, and the successes to expect at it."""
     import bound
-    twins = bound.noise_free_twin(pairs)
-    clean = {p["name"]: p for p in json.load(open(os.path.join(twins, "pairs.json")))["pairs"]}
-    out = {}
-    for p in pairs["pairs"]:
-        if not p["foreign"]:
-            _, error, chance = bound.bound(p, clean[p["name"]])
-            out[p["name"]] = {"bound_pct": 100 * error / p["distance_m"], "chance": chance}
+    out = {r["pair"]["name"]: {"bound_pct": r["bound_pct"], "chance": r["chance"]}
+           for r in bound.pair_bounds(pairs)}
     return {"pairs": out, "expected_successes": sum(v["chance"] for v in out.values())}
 
 
