@@ -8,7 +8,10 @@ namespace ambler {
 // for each 4 KiB it touches: a quarter of an elevation map's build time on
 // the reference machine. Called first in each program's main: blocks up to
 // 32 MiB come from the heap, and freed memory stays with the process for
-// the next scan (its footprint stays at its peak).
+// the next scan (its footprint stays at its peak). The heap's first 256 MiB
+// are also advised for transparent huge pages: a one-shot `ambler-cli
+// register` touches tens of MB of fresh memory, and at 4 KiB a page the faults
+// were a fifth of its time on the reference VM (docs/mapping.md).
 void keepFreedMemoryForReuse();
 
 }  // namespace ambler
