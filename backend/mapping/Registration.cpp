@@ -44,6 +44,8 @@ void validate(const RegistrationOptions& o) {
   require(o.max_rms_m > 0, "max_rms_m must be positive");
   require(o.sigma_floor_m > 0, "sigma_floor_m must be positive");
   require(o.agreement_tolerance_m > 0, "agreement_tolerance_m must be positive");
+  require(o.abandon_agreement >= 0 && o.abandon_agreement <= o.min_agreement,
+          "abandon_agreement must be in [0, min_agreement]");
   require(o.min_agreement >= 0 && o.min_agreement <= 1, "min_agreement must be in [0, 1]");
   require(o.doubtful_sigma_m > 0 && o.degenerate_sigma_m >= o.doubtful_sigma_m,
           "sigmas must satisfy 0 < doubtful_sigma_m <= degenerate_sigma_m");
@@ -624,18 +626,23 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   coarse.max_iterations = o.max_iterations;
   coarse.min_step = 3 * o.min_step;
   Fit fit = gicp(moving, fixed, index, start, coarse, threads);
-  const int first = fit.iterations;
-  fit = gicp(placed, fixed, index, fit.transform, o, threads);
-  fit.iterations += first;
+  auto agreementAt = [&](const Eigen::Isometry3d& motion) {
+    return o.min_agreement > 0 ? heightAgreement(positions(placed, motion), target_points,
+                                                 o.search.cell_m, o.agreement_tolerance_m)
+                               : std::numeric_limits<double>::quiet_NaN();
+  };
+  double agreement = agreementAt(fit.transform);
+  if (!(agreement < o.abandon_agreement)) {
+    const int first = fit.iterations;
+    fit = gicp(placed, fixed, index, fit.transform, o, threads);
+    fit.iterations += first;
+    agreement = agreementAt(fit.transform);
+  }
   Registration r;
   r.transform = frame * fit.transform * frame.inverse() * initial;
   r.converged = fit.converged;
   r.iterations = fit.iterations;
   r.pairs = fit.pairs;
-  const double agreement = o.min_agreement > 0
-                               ? heightAgreement(positions(placed, fit.transform), target_points,
-                                                 o.search.cell_m, o.agreement_tolerance_m)
-                               : std::numeric_limits<double>::quiet_NaN();
   // The verdict weighs the source's points where the scan put them: moved
   // onto their neighbours' planes they share their errors, and their
   // residual would understate the noise.
