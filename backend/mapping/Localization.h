@@ -47,6 +47,7 @@ struct GlobalOptions {
                              .partner_plane_m = 0.1,
                              .agreement_tolerance_m = 0.5,
                              .min_agreement = 0.0,
+                             .abandon_agreement = 0.0,
                              .max_rms_m = 0.05,
                              .sigma_floor_m = 0.02,
                              .degenerate_sigma_m = 0.05,
