@@ -8,6 +8,7 @@ find_package(GDAL 3.6 CONFIG REQUIRED)
 # The evaluations' second ray caster (truth independent of the scanner's).
 find_package(embree 3 CONFIG REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
+find_package(tsl-robin-map 1.2 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Threads REQUIRED)
 find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)

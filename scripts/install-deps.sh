@@ -13,7 +13,7 @@ PACKAGES=(
   # libraries (see ../shared/STACK.md for how they are linked)
   qt6-base-dev libqt6opengl6-dev qt6-charts-dev
   libvtk9-dev libpcl-dev libopencv-dev libeigen3-dev
-  libtiff-dev libgdal-dev libembree-dev libnanoflann-dev nlohmann-json3-dev libcli11-dev libsqlite3-dev libssl-dev libminizip-dev
+  libtiff-dev libgdal-dev libembree-dev libnanoflann-dev robin-map-dev nlohmann-json3-dev libcli11-dev libsqlite3-dev libssl-dev libminizip-dev
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   # real terrain for the mapping tests: USGS's Jacksboro fault DEM

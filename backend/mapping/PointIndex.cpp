@@ -1,5 +1,7 @@
 #include "mapping/PointIndex.h"
 
+#include <algorithm>
+#include <limits>
 #include <nanoflann.hpp>
 
 namespace ambler::mapping {
@@ -25,7 +27,7 @@ struct PointIndex::Tree {
   Dataset dataset;
   KdTree tree;
   explicit Tree(const std::vector<Eigen::Vector3f>& points)
-      : dataset{&points}, tree(3, dataset, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+      : dataset{&points}, tree(3, dataset, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
 };
 
 PointIndex::PointIndex(std::vector<Eigen::Vector3f> points)
@@ -33,15 +35,21 @@ PointIndex::PointIndex(std::vector<Eigen::Vector3f> points)
 
 PointIndex::~PointIndex() = default;
 
-PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2) const {
+PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2,
+                                    int hint) const {
   if (points_.empty()) return {};
   // The result set starts with the limit as its worst distance, so that the
-  // tree prunes everything farther at once.
+  // tree prunes everything farther at once. The hint's bound is widened a
+  // little so that rounding cannot drop the hint itself.
+  float bound = max_distance2;
+  if (hint >= 0 && std::size_t(hint) < points_.size())
+    bound = std::min(bound, (points_[std::size_t(hint)] - query).squaredNorm() * (1 + 1e-5f) +
+                                std::numeric_limits<float>::min());
   unsigned index = 0;
   float d2 = 0;
   nanoflann::KNNResultSet<float, unsigned> result(1);
   result.init(&index, &d2);
-  d2 = max_distance2;
+  d2 = bound;
   tree_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
   if (result.size() != 1 || d2 > max_distance2) return {};
   return {int(index), d2};

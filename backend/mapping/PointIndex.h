@@ -23,7 +23,10 @@ class PointIndex {
     float distance2 = 0.0f;  // squared [m^2]
   };
   // The nearest point, or index -1 when none lies within sqrt(max_distance2).
-  Hit nearest(const Eigen::Vector3f& query, float max_distance2) const;
+  // `hint`, when not -1, is a point likely near the query (its nearest for a
+  // query close by): its distance bounds the search from the start, which
+  // then visits fewer branches; the answer is the same.
+  Hit nearest(const Eigen::Vector3f& query, float max_distance2, int hint = -1) const;
   // Up to k nearest points, nearest first; returns how many were written.
   int nearest(const Eigen::Vector3f& query, int k, unsigned* indices, float* distance2) const;
 

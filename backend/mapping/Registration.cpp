@@ -1,6 +1,7 @@
 #include "mapping/Registration.h"
 
 #include <omp.h>
+#include <tsl/robin_map.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -11,7 +12,6 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
-#include <unordered_map>
 
 #include "mapping/HeightSearch.h"
 #include "mapping/PointIndex.h"
@@ -121,11 +121,21 @@ Eigen::Vector3i cellOfPoint(const Eigen::Vector3d& p, double cell) {
 std::uint64_t voxelKey(const Eigen::Vector3d& p, double voxel) {
   return cellKey(cellOfPoint(p, voxel));
 }
+// The keys' low bits are one axis alone: mixed (MurmurHash3's finalizer)
+// before the open-addressed map takes them modulo its power-of-two size.
+struct KeyHash {
+  std::size_t operator()(std::uint64_t k) const {
+    k ^= k >> 33, k *= 0xff51afd7ed558ccdULL, k ^= k >> 33;
+    return std::size_t(k);
+  }
+};
+template <class Value>
+using CellMap = tsl::robin_map<std::uint64_t, Value, KeyHash>;
 
 // One mean point per occupied voxel, in the order the voxels were first met.
 std::vector<Eigen::Vector3d> voxelMeans(const Cloud& cloud, const Eigen::Isometry3d& to_frame,
                                         double voxel) {
-  std::unordered_map<std::uint64_t, std::size_t> slot;
+  CellMap<std::size_t> slot;
   std::vector<Eigen::Vector3d> sum;
   std::vector<int> count;
   for (const auto& raw : cloud) {
@@ -200,7 +210,7 @@ class CellBlocks {
           }
   }
   double cell_;
-  std::unordered_map<std::uint64_t, std::size_t> index_;
+  CellMap<std::size_t> index_;
   std::vector<Eigen::Vector3i> coords_;
   std::vector<Moments> cells_, blocks_;
 };
@@ -329,7 +339,7 @@ const Eigen::Vector3d& position(const Eigen::Vector3d& p) { return p; }
 // One per coarse voxel, the first met.
 template <class Point>
 std::vector<Point> sparser(const std::vector<Point>& points, double voxel) {
-  std::unordered_map<std::uint64_t, char> seen;
+  CellMap<char> seen;
   std::vector<Point> out;
   for (const auto& p : points) {
     if (seen.try_emplace(voxelKey(position(p), voxel), 1).second) out.push_back(p);
@@ -395,13 +405,17 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
   double distance = o.max_distance_m;
   int in_stage = 0;
   const double c2 = o.kernel_sigmas * o.kernel_sigmas;
+  // Each source point's partner of the last iteration: the steps are small,
+  // so it bounds the next search closely.
+  std::vector<int> partner(source.size(), -1);
   while (fit.iterations < o.max_iterations) {
     ++fit.iterations;
     const Eigen::Matrix3d r = fit.transform.linear();
     const float limit2 = float(distance * distance);
     const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
       const Eigen::Vector3d q = fit.transform * source[i].p;
-      const auto hit = index.nearest(q.cast<float>(), limit2);
+      const auto hit = index.nearest(q.cast<float>(), limit2, partner[i]);
+      partner[i] = hit.index;
       if (hit.index < 0) {
         sum.cost += c2;
         return;
