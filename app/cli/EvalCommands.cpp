@@ -286,6 +286,8 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"oblique_shadow_sides", a.locus.oblique_shadow_sides},
       {"grazing_noise_sigmas", a.locus.edges.grazing_noise_sigmas},
       {"grazing_weak_noise_sigmas", a.locus.edges.weak_grazing_noise_sigmas},
+      {"grazing_baseline_rows", a.locus.edges.grazing_baseline_rows},
+      {"grazing_baseline_noise_sigmas", a.locus.edges.grazing_baseline_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"methods", methodsJson(pooled)},
       {"families", by_family},

@@ -81,6 +81,15 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "a smaller allowance [std. dev.] for pairs beside a grazing pair or an edge")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--grazing-baseline", edges.grazing_baseline_rows,
+                 "scanlines over which the range step is averaged for a second grazing test, "
+                 "which noise cannot hide; 0: off")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  cmd.add_option("--grazing-baseline-noise", edges.grazing_baseline_noise_sigmas,
+                 "its noise allowance [std. dev. of the averaged step]")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
   cmd.add_option("--oblique-shadow-far-ends", locus.oblique_shadow_far_ends,
                  "with --oblique-shadow-sides, so are the known cells one and two steps beyond a "
                  "shadow along the line of sight (true/false)")

@@ -65,6 +65,8 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
   requireAtMost(options.grazing_noise_sigmas, "grazing", weak_sigmas, "weak edge");
   requireAtMost(options.weak_grazing_noise_sigmas, "weak grazing", options.grazing_noise_sigmas,
                 "grazing");
+  if (!(options.grazing_baseline_noise_sigmas >= 0))
+    throw std::invalid_argument("the grazing baseline's noise allowance must be >= 0 sigma");
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
@@ -148,6 +150,10 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     for (int c = 0; c < cols_; ++c)
       if (candidates[c]) testAll(r, c, candidates[c]);
   }
+  if (options.mark_grazing && options.grazing_baseline_rows > 0)
+    markGrazingBaselines(range, row_sep, jumps.inv_tan_grazing, jumps.k,
+                         options.grazing_baseline_rows, options.grazing_baseline_noise_sigmas,
+                         options.grazing_noise_sigmas);
   // A weak level is kept when what it is continues: a pair of the same
   // kind beside it along the run (across rows for a row pair, along columns
   // for a column pair, either way for diagonals) whose level `counts`.
@@ -200,6 +206,48 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
         mark(r, c, kind, kEdgeQuad);
       }
     }
+}
+
+// Each pair of scanlines (r, r + 1) against the range step per scanline
+// averaged over the `rows` scanlines around it, from the difference of its
+// two ends: the pixels between drop out, and so does most of their noise
+// (std. dev. k sqrt(a^4 + b^4) / (rows - 1)). Only where the pair alone
+// cannot rule grazing out (within `pair_noise_sigmas` of the bound): without
+// noise its own test is exact. Squares stand for the roots, and single
+// precision for double, so that the loop over a scanline vectorises.
+void OccludingEdges::markGrazingBaselines(const std::vector<float>& range,
+                                          const std::vector<double>& row_sep,
+                                          double inv_tan_grazing, double k, int rows,
+                                          double noise_sigmas, double pair_noise_sigmas) {
+  const int half = rows / 2, span = 2 * half - 1;
+  std::vector<float> bound_per_rho(cols_);
+  for (int c = 0; c < cols_; ++c) bound_per_rho[c] = float(row_sep[c] * inv_tan_grazing);
+  const float inv_span = 1.0f / float(span);
+  const float pair_var = float(pair_noise_sigmas * pair_noise_sigmas * k * k);
+  const float mean_var = float(noise_sigmas * noise_sigmas * k * k) * inv_span * inv_span;
+  std::vector<std::uint8_t> hit(cols_);
+  for (int r = half - 1; r + half < rows_; ++r) {
+    const float* first = &range[std::size_t(r - half + 1) * cols_];
+    const float* last = &range[std::size_t(r + half) * cols_];
+    const float* upper = &range[std::size_t(r) * cols_];
+    const float* lower = upper + cols_;
+    for (int c = 0; c < cols_; ++c) {
+      const float a = first[c], b = last[c], u = upper[c], l = lower[c];
+      const float bound = std::min(u, l) * bound_per_rho[c];
+      const float short_of = bound - std::abs(u - l);
+      const float u2 = u * u, l2 = l * l, a2 = a * a, b2 = b * b;
+      const bool undecided =
+          (short_of < 0) | (short_of * short_of < pair_var * (u2 * u2 + l2 * l2));
+      const float beyond = std::abs(b - a) * inv_span - bound;
+      // Comparisons with NaN (no return) are false.
+      hit[c] = undecided & (beyond > 0) & (beyond * beyond > mean_var * (a2 * a2 + b2 * b2));
+    }
+    for (int c = 0; c < cols_; ++c) {
+      if (!hit[c]) continue;
+      if (c > 0) quad_[std::size_t(r) * (cols_ - 1) + c - 1] |= kGrazingQuad;
+      if (c + 1 < cols_) quad_[std::size_t(r) * (cols_ - 1) + c] |= kGrazingQuad;
+    }
+  }
 }
 
 int OccludingEdges::edgePixelCount() const {

@@ -36,6 +36,14 @@ struct OccludingEdgeOptions {
   // an edge, for ground seen obliquely runs along the image like an edge.
   // At most grazing_noise_sigmas; equal turns it off (README, elevation maps).
   double weak_grazing_noise_sigmas = 0.0;
+  // Under heavy noise one pair cannot tell ground seen just beyond the
+  // grazing bound from noise, and such ground stays known, though relief
+  // hides parts of it. The range step averaged over this many scanlines
+  // can: its noise falls as one over their number. Quads whose averaged
+  // step is beyond the bound by more than the allowance (std. dev. of the
+  // average) are grazing too. 0 turns it off (README, elevation maps).
+  int grazing_baseline_rows = 16;
+  double grazing_baseline_noise_sigmas = 2.0;
 };
 
 // The discontinuities of one range image, indexed by the image's quads: quad
@@ -65,6 +73,9 @@ class OccludingEdges {
   static constexpr std::uint8_t kEdgeQuad = 1, kGrazingQuad = 2;
   static constexpr std::uint8_t kEdgePixel = 1, kRightPairEdge = 2;
   std::uint8_t quadFlags(int r, int c) const { return quad_[std::size_t(r) * (cols_ - 1) + c]; }
+  void markGrazingBaselines(const std::vector<float>& range, const std::vector<double>& row_sep,
+                            double inv_tan_grazing, double k, int rows, double noise_sigmas,
+                            double pair_noise_sigmas);
 
   int rows_ = 0, cols_ = 0;
   std::vector<std::uint8_t> pixel_;

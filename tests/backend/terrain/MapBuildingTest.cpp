@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "terrain/Binning.h"
 #include "terrain/MapScore.h"
@@ -117,6 +118,53 @@ TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
   }
   off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas + 0.5;
   EXPECT_THROW(OccludingEdges(image, off), std::invalid_argument);
+}
+
+// Ground whose range grows by `ratio` times the grazing bound from one
+// scanline to the next (ratio > 1: seen more obliquely than the bound), with
+// noise so large that one pair cannot tell: its excess over the bound is
+// a quarter of a standard deviation of the pair's difference near the
+// middle row.
+sensor::RangeImage obliqueGroundImage(double ratio, unsigned seed) {
+  const int rows = 64, cols = 32;
+  sensor::RangeImage image;
+  image.geometry = sensor::ScanGeometry::symmetric(rows, cols, 8 * kDeg, 20 * kDeg);
+  const double per_rho =
+      std::abs(image.geometry.phi_step) / std::tan(OccludingEdgeOptions{}.min_grazing_deg * kDeg);
+  const double middle = 10.0 * std::pow(1 + ratio * per_rho, rows / 2);
+  image.range_sigma_k = std::abs(ratio - 1) * per_rho / (0.25 * std::sqrt(2.0) * middle);
+  std::mt19937 draw(seed);
+  std::normal_distribution<double> normal;
+  image.range.resize(std::size_t(rows) * cols);
+  for (int c = 0; c < cols; ++c) {
+    double rho = 10.0;
+    for (int r = rows - 1; r >= 0; --r, rho *= 1 + ratio * per_rho)  // row 0 looks highest
+      image.range[std::size_t(r) * cols + c] =
+          float(rho + image.range_sigma_k * rho * rho * normal(draw));
+  }
+  return image;
+}
+
+double grazingShare(const OccludingEdges& edges, int rows, int cols) {
+  int grazing = 0, quads = 0;
+  for (int r = 8; r < rows - 9; ++r)
+    for (int c = 0; c < cols - 1; ++c) grazing += edges.quadIsGrazing(r, c), ++quads;
+  return double(grazing) / quads;
+}
+
+// Under that noise the pairs alone (with their hysteresis) leave 40 % of
+// the oblique ground known; the step averaged over 16 scanlines finds
+// nearly all of it, and adds nothing on ground seen less obliquely than
+// the bound, where noise alone makes a quarter of the quads grazing.
+TEST(OccludingEdges, AnAveragedStepFindsGrazingGroundThatNoiseHidesFromPairs) {
+  OccludingEdgeOptions pairs_only;
+  pairs_only.grazing_baseline_rows = 0;
+  const auto oblique = obliqueGroundImage(1.3, 7);
+  EXPECT_LT(grazingShare(OccludingEdges(oblique, pairs_only), 64, 32), 0.7);  // 0.60
+  EXPECT_GT(grazingShare(OccludingEdges(oblique), 64, 32), 0.95);             // 0.99
+  const auto steeper = obliqueGroundImage(0.7, 7);
+  EXPECT_DOUBLE_EQ(grazingShare(OccludingEdges(steeper), 64, 32),
+                   grazingShare(OccludingEdges(steeper, pairs_only), 64, 32));
 }
 
 TEST(Binning, AveragesThePointsInEachCell) {
