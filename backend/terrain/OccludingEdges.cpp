@@ -67,6 +67,10 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
                 "grazing");
   if (!(options.grazing_baseline_noise_sigmas >= 0))
     throw std::invalid_argument("the grazing baseline's noise allowance must be >= 0 sigma");
+  if (options.grazing_baseline_rows < 0 || options.grazing_baseline_rows == 1)
+    throw std::invalid_argument(
+        "the grazing baseline must be 0 (off) or at least 2 scanlines, not " +
+        std::to_string(options.grazing_baseline_rows));
   const auto& g = image.geometry;
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
@@ -168,24 +172,6 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
   };
   auto isEdge = [](Level l) { return l == kWeakEdge || l == kEdge; };
   auto isEdgeOrGrazing = [](Level l) { return l == kWeakEdge || l == kEdge || l == kGrazing; };
-  // Each edge pair marks the quads it belongs to: a row pair the quads
-  // above and below it, a column pair those left and right of it, a
-  // diagonal its own quad.
-  auto quad = [&](int r, int c) -> std::uint8_t& {
-    return quad_[std::size_t(r) * (cols_ - 1) + c];
-  };
-  auto mark = [&](int r, int c, int kind, std::uint8_t flag) {
-    auto set = [&](int qr, int qc) { quad(qr, qc) |= flag; };
-    if (kind == 0) {
-      if (r > 0) set(r - 1, c);
-      if (r + 1 < rows_) set(r, c);
-    } else if (kind == 1) {
-      if (c > 0) set(r, c - 1);
-      if (c + 1 < cols_) set(r, c);
-    } else {
-      set(r, c);
-    }
-  };
   for (int r = 0; r < rows_; ++r)
     for (int c = 0; c < cols_; ++c) {
       if (!level[std::size_t(r) * cols_ + c]) continue;
@@ -195,7 +181,7 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
         if (l == kGrazing || l == kWeakGrazing ||
             (l == kWeakEdge && !continued(r, c, kind, isEdge))) {
           if (options.mark_grazing && (l != kWeakGrazing || continued(r, c, kind, isEdgeOrGrazing)))
-            mark(r, c, kind, kGrazingQuad);
+            markQuadsOfPair(r, c, kind, kGrazingQuad);
           continue;
         }
         const int r1 = kind == 0 ? r : r + 1;
@@ -203,7 +189,7 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
         pixel_[std::size_t(r) * cols_ + c0] |= kEdgePixel;
         pixel_[std::size_t(r1) * cols_ + c1] |= kEdgePixel;
         if (kind == 0) pixel_[std::size_t(r) * cols_ + c] |= kRightPairEdge;
-        mark(r, c, kind, kEdgeQuad);
+        markQuadsOfPair(r, c, kind, kEdgeQuad);
       }
     }
 }
@@ -242,11 +228,24 @@ void OccludingEdges::markGrazingBaselines(const std::vector<float>& range,
       // Comparisons with NaN (no return) are false.
       hit[c] = undecided & (beyond > 0) & (beyond * beyond > mean_var * (a2 * a2 + b2 * b2));
     }
-    for (int c = 0; c < cols_; ++c) {
-      if (!hit[c]) continue;
-      if (c > 0) quad_[std::size_t(r) * (cols_ - 1) + c - 1] |= kGrazingQuad;
-      if (c + 1 < cols_) quad_[std::size_t(r) * (cols_ - 1) + c] |= kGrazingQuad;
-    }
+    for (int c = 0; c < cols_; ++c)
+      if (hit[c]) markQuadsOfPair(r, c, 1, kGrazingQuad);
+  }
+}
+
+// A pair marks the quads it belongs to: a pair along a scanline the quads
+// above and below it, a pair across scanlines those left and right of it,
+// a diagonal its own quad.
+void OccludingEdges::markQuadsOfPair(int r, int c, int kind, std::uint8_t flag) {
+  auto set = [&](int qr, int qc) { quad_[std::size_t(qr) * (cols_ - 1) + qc] |= flag; };
+  if (kind == 0) {
+    if (r > 0) set(r - 1, c);
+    if (r + 1 < rows_) set(r, c);
+  } else if (kind == 1) {
+    if (c > 0) set(r, c - 1);
+    if (c + 1 < cols_) set(r, c);
+  } else {
+    set(r, c);
   }
 }
 

@@ -41,7 +41,8 @@ struct OccludingEdgeOptions {
   // hides parts of it. The range step averaged over this many scanlines
   // can: its noise falls as one over their number. Quads whose averaged
   // step is beyond the bound by more than the allowance (std. dev. of the
-  // average) are grazing too. 0 turns it off (README, elevation maps).
+  // average) are grazing too. 0 turns it off; otherwise at least 2, an odd
+  // number counting as the even one below it (README, elevation maps).
   int grazing_baseline_rows = 16;
   double grazing_baseline_noise_sigmas = 2.0;
 };
@@ -76,6 +77,9 @@ class OccludingEdges {
   void markGrazingBaselines(const std::vector<float>& range, const std::vector<double>& row_sep,
                             double inv_tan_grazing, double k, int rows, double noise_sigmas,
                             double pair_noise_sigmas);
+  // Kinds as the levels' bits: 0 along a scanline, 1 across scanlines, 2
+  // and 3 the diagonals.
+  void markQuadsOfPair(int r, int c, int kind, std::uint8_t flag);
 
   int rows_ = 0, cols_ = 0;
   std::vector<std::uint8_t> pixel_;

@@ -145,10 +145,12 @@ sensor::RangeImage obliqueGroundImage(double ratio, unsigned seed) {
   return image;
 }
 
-double grazingShare(const OccludingEdges& edges, int rows, int cols) {
+// Of the quads away from the image's top and bottom 8 scanlines.
+double grazingShare(const sensor::RangeImage& image, const OccludingEdgeOptions& options = {}) {
+  const OccludingEdges edges(image, options);
   int grazing = 0, quads = 0;
-  for (int r = 8; r < rows - 9; ++r)
-    for (int c = 0; c < cols - 1; ++c) grazing += edges.quadIsGrazing(r, c), ++quads;
+  for (int r = 8; r < image.rows() - 9; ++r)
+    for (int c = 0; c < image.cols() - 1; ++c) grazing += edges.quadIsGrazing(r, c), ++quads;
   return double(grazing) / quads;
 }
 
@@ -160,11 +162,13 @@ TEST(OccludingEdges, AnAveragedStepFindsGrazingGroundThatNoiseHidesFromPairs) {
   OccludingEdgeOptions pairs_only;
   pairs_only.grazing_baseline_rows = 0;
   const auto oblique = obliqueGroundImage(1.3, 7);
-  EXPECT_LT(grazingShare(OccludingEdges(oblique, pairs_only), 64, 32), 0.7);  // 0.60
-  EXPECT_GT(grazingShare(OccludingEdges(oblique), 64, 32), 0.95);             // 0.99
+  EXPECT_LT(grazingShare(oblique, pairs_only), 0.7);  // 0.60
+  EXPECT_GT(grazingShare(oblique), 0.95);             // 0.99
   const auto steeper = obliqueGroundImage(0.7, 7);
-  EXPECT_DOUBLE_EQ(grazingShare(OccludingEdges(steeper), 64, 32),
-                   grazingShare(OccludingEdges(steeper, pairs_only), 64, 32));
+  EXPECT_DOUBLE_EQ(grazingShare(steeper), grazingShare(steeper, pairs_only));
+  OccludingEdgeOptions one_row;
+  one_row.grazing_baseline_rows = 1;
+  EXPECT_THROW(OccludingEdges(oblique, one_row), std::invalid_argument);
 }
 
 TEST(Binning, AveragesThePointsInEachCell) {
