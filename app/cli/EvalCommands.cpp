@@ -85,26 +85,6 @@ nlohmann::json footholdJson(const FootholdCount& f) {
   return {{"footholds", f.chosen}, {"footholds_on_unseen_cells", f.on_unseen}};
 }
 
-nlohmann::json methodJson(const MethodResult& m) {
-  auto j = scoreJson(m.all);
-  j.update(footholdJson(m.footholds));
-  j["ms_per_map"] = m.maps ? m.total_ms / m.maps : 0.0;
-  j["by_noise"] = nlohmann::json::array();
-  for (const auto& [k, score] : m.by_noise) {
-    auto level = scoreJson(score);
-    if (const auto f = m.footholds_by_noise.find(k); f != m.footholds_by_noise.end())
-      level.update(footholdJson(f->second));
-    level["noise_k"] = k;
-    j["by_noise"].push_back(level);
-  }
-  return j;
-}
-
-// The scores of both methods, pooled over what they were added from.
-struct Scores {
-  MethodResult locus, binning;
-};
-
 // Nine foothold regions (squares of 1.5 m, smaller on a small map) spread
 // over the map: at a quarter, half and three quarters of its width, a fifth,
 // 45 % and 70 % of its depth, as the gait planner asks for one per leg move.
@@ -150,25 +130,80 @@ FootholdCount scoreFootholds(const terrain::ElevationMap& map, const sim::Visibi
   return count;
 }
 
+// One method's map of one scene, built once and timed, and where the best
+// footholds on it landed.
+struct BuiltMap {
+  terrain::ElevationMap map;
+  double ms = 0.0;
+  FootholdCount footholds;
+};
+
 template <typename Build>
-void scoreMethod(MethodResult& result, double k, const sim::VisibilityTruth& truth, Build&& build,
-                 const std::vector<Box2>& regions, const footfall::FootOptions& foot) {
+BuiltMap buildMap(Build&& build, const sim::VisibilityTruth& truth,
+                  const std::vector<Box2>& regions, const footfall::FootOptions& foot) {
   const auto start = std::chrono::steady_clock::now();
-  const auto map = build();
-  result.total_ms += millisecondsSince(start);
+  BuiltMap built{build(), 0.0, {}};
+  built.ms = millisecondsSince(start);
+  built.footholds = scoreFootholds(built.map, truth, regions, foot);
+  return built;
+}
+
+void addMap(MethodResult& result, double k, const sim::VisibilityTruth& truth,
+            const BuiltMap& built) {
+  result.total_ms += built.ms;
   ++result.maps;
   // Without noise sigma is only an interpolation bound: not a calibration.
-  result.all.add(map, truth.height, truth.state, k > 0);
-  result.by_noise[k].add(map, truth.height, truth.state, k > 0);
-  const auto f = scoreFootholds(map, truth, regions, foot);
+  result.all.add(built.map, truth.height, truth.state, k > 0);
+  result.by_noise[k].add(built.map, truth.height, truth.state, k > 0);
   for (auto* total : {&result.footholds, &result.footholds_by_noise[k]}) {
-    total->chosen += f.chosen;
-    total->on_unseen += f.on_unseen;
+    total->chosen += built.footholds.chosen;
+    total->on_unseen += built.footholds.on_unseen;
   }
 }
 
+// The scores of both methods, pooled over what they were added from, and
+// the two compared on the cells both know.
+struct Scores {
+  MethodResult locus, binning;
+  terrain::SharedCellsScore shared;
+  std::map<double, terrain::SharedCellsScore> shared_by_noise;
+
+  void add(double k, const sim::VisibilityTruth& truth, const BuiltMap& by_locus,
+           const BuiltMap& by_binning) {
+    addMap(locus, k, truth, by_locus);
+    addMap(binning, k, truth, by_binning);
+    for (auto* s : {&shared, &shared_by_noise[k]})
+      s->add(by_locus.map, by_binning.map, truth.height);
+  }
+};
+
+// `shared_rmse` gives this method's RMSE on the cells both methods know.
+nlohmann::json methodJson(const MethodResult& m, const Scores& s,
+                          std::optional<double> (terrain::SharedCellsScore::*shared_rmse)() const) {
+  auto sharedJson = [&](const terrain::SharedCellsScore& shared) {
+    return nlohmann::json{{"rmse_on_shared_cells_m", optionalNumber((shared.*shared_rmse)())},
+                          {"shared_cells", shared.cells()}};
+  };
+  auto j = scoreJson(m.all);
+  j.update(footholdJson(m.footholds));
+  j.update(sharedJson(s.shared));
+  j["ms_per_map"] = m.maps ? m.total_ms / m.maps : 0.0;
+  j["by_noise"] = nlohmann::json::array();
+  for (const auto& [k, score] : m.by_noise) {
+    auto level = scoreJson(score);
+    if (const auto f = m.footholds_by_noise.find(k); f != m.footholds_by_noise.end())
+      level.update(footholdJson(f->second));
+    if (const auto shared = s.shared_by_noise.find(k); shared != s.shared_by_noise.end())
+      level.update(sharedJson(shared->second));
+    level["noise_k"] = k;
+    j["by_noise"].push_back(level);
+  }
+  return j;
+}
+
 nlohmann::json methodsJson(const Scores& s) {
-  return {{"locus", methodJson(s.locus)}, {"binning", methodJson(s.binning)}};
+  return {{"locus", methodJson(s.locus, s, &terrain::SharedCellsScore::rmseFirst)},
+          {"binning", methodJson(s.binning, s, &terrain::SharedCellsScore::rmseSecond)}};
 }
 
 // rmse_m and coverage first: scripts read them as the third and fourth
@@ -259,10 +294,9 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
           const auto image = sim::simulateScan(scene.caster(), noisy, scene.sensorPose(), seed);
           auto locus = [&] { return terrain::buildLocusMap(image, grid, options); };
           auto binning = [&] { return terrain::buildBinnedMap(image, grid); };
-          for (auto* s : {&scores, &pooled}) {
-            scoreMethod(s->locus, k, truth, locus, regions, foot);
-            scoreMethod(s->binning, k, truth, binning, regions, foot);
-          }
+          const auto by_locus = buildMap(locus, truth, regions, foot);
+          const auto by_binning = buildMap(binning, truth, regions, foot);
+          for (auto* s : {&scores, &pooled}) s->add(k, truth, by_locus, by_binning);
           ++scenes;
         }
       }

@@ -119,4 +119,31 @@ std::optional<double> MapScore::sigmaCalibrationVisible() const {
   return visible_ratios_.standardDeviation();
 }
 
+void SharedCellsScore::add(const ElevationMap& first, const ElevationMap& second,
+                           const io::FloatImage& true_height) {
+  const auto& g = first.grid();
+  const auto& h = second.grid();
+  if (h.rows != g.rows || h.cols != g.cols || true_height.rows != g.rows ||
+      true_height.cols != g.cols)
+    throw std::invalid_argument("the two maps and the truth are not of one size");
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      if (!first.isKnown(r, c) || !second.isKnown(r, c) || !std::isfinite(true_height(r, c)))
+        continue;
+      const double a = double(first.elevation(r, c)) - true_height(r, c);
+      const double b = double(second.elevation(r, c)) - true_height(r, c);
+      sum_sq_first_ += a * a, sum_sq_second_ += b * b, ++cells_;
+    }
+}
+
+std::optional<double> SharedCellsScore::rmseFirst() const {
+  if (cells_ == 0) return std::nullopt;
+  return std::sqrt(sum_sq_first_ / double(cells_));
+}
+
+std::optional<double> SharedCellsScore::rmseSecond() const {
+  if (cells_ == 0) return std::nullopt;
+  return std::sqrt(sum_sq_second_ / double(cells_));
+}
+
 }  // namespace ambler::terrain

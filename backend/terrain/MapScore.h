@@ -71,4 +71,22 @@ class MapScore {
   RatioSums ratios_, visible_ratios_;
 };
 
+// Two maps of one scene compared on the cells both know: each one's RMSE
+// there. Methods that know different cells (the locus method fills sparse
+// far ground that binning leaves empty, where any estimate errs more) are
+// compared on equal ground. Pools over scenes, as MapScore does.
+class SharedCellsScore {
+ public:
+  // Throws std::invalid_argument when the maps or the truth differ in size.
+  void add(const ElevationMap& first, const ElevationMap& second,
+           const io::FloatImage& true_height);
+  std::optional<double> rmseFirst() const;
+  std::optional<double> rmseSecond() const;
+  long cells() const { return cells_; }
+
+ private:
+  double sum_sq_first_ = 0.0, sum_sq_second_ = 0.0;
+  long cells_ = 0;
+};
+
 }  // namespace ambler::terrain

@@ -511,10 +511,16 @@ TEST(Cli, EvalElevationShowsLocusBeatingBinning) {
   EXPECT_EQ(report["seed_set"], "given");
   const auto& locus = report["methods"]["locus"];
   const auto& binning = report["methods"]["binning"];
-  for (int level = 0; level < 2; ++level)
-    EXPECT_LT(locus["by_noise"][level]["rmse_m"].get<double>(),
-              binning["by_noise"][level]["rmse_m"].get<double>())
+  for (int level = 0; level < 2; ++level) {
+    const auto &l = locus["by_noise"][level], &b = binning["by_noise"][level];
+    EXPECT_LT(l["rmse_m"].get<double>(), b["rmse_m"].get<double>()) << level;
+    // And on the cells both know, which are fewer than either knows.
+    EXPECT_LT(l["rmse_on_shared_cells_m"].get<double>(), b["rmse_on_shared_cells_m"].get<double>())
         << level;
+    EXPECT_EQ(l["shared_cells"], b["shared_cells"]);
+    EXPECT_GT(l["shared_cells"].get<long>(), 0);
+    EXPECT_LE(l["shared_cells"].get<long>(), b["known_cells"].get<long>());
+  }
   EXPECT_GT(locus["coverage"].get<double>(), 0.9);
   // What is seen but not known is oblique: grazing ground 15 m out.
   EXPECT_GT(locus["coverage"].get<double>() + locus["oblique_coverage"].get<double>(), 0.95);

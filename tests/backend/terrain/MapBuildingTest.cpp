@@ -202,6 +202,27 @@ TEST(MapScore, CountsAgainstTruth) {
   EXPECT_THROW(score.add(map, io::FloatImage(2, 2), state), std::invalid_argument);
 }
 
+// Each map's RMSE over the cells both know: the cells only one of them
+// knows, and cells without a true height, do not count.
+TEST(SharedCellsScore, ComparesTwoMapsOnTheCellsBothKnow) {
+  const GridSpec grid = GridSpec::covering({0, 0, 4, 1}, 1.0);
+  ElevationMap first(grid), second(grid);
+  io::FloatImage height(1, 4, 0.0f);
+  height(0, 3) = NAN;
+  first.setKnown(0, 0, 0.3, 0.1), second.setKnown(0, 0, 0.1, 0.1);
+  first.setKnown(0, 1, 0.4, 0.1), second.setKnown(0, 1, -0.1, 0.1);
+  first.setKnown(0, 2, 5.0, 0.1);  // only the first knows it
+  first.setKnown(0, 3, 5.0, 0.1), second.setKnown(0, 3, 5.0, 0.1);
+  SharedCellsScore score;
+  EXPECT_FALSE(score.rmseFirst());
+  score.add(first, second, height);
+  EXPECT_EQ(score.cells(), 2);
+  EXPECT_NEAR(*score.rmseFirst(), std::sqrt((0.09 + 0.16) / 2), 1e-6);
+  EXPECT_NEAR(*score.rmseSecond(), std::sqrt((0.01 + 0.01) / 2), 1e-6);
+  const ElevationMap other(GridSpec::covering({0, 0, 2, 1}, 1.0));
+  EXPECT_THROW(score.add(first, other, height), std::invalid_argument);
+}
+
 TEST(MapScore, ToleratesOneCellAtShadowBoundariesAndCountsMadeUpCells) {
   ElevationMap map(GridSpec::covering({0, 0, 8, 1}, 1.0));
   io::FloatImage height(1, 8, 0.0f);
