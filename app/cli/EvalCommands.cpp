@@ -323,6 +323,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"grazing_baseline_rows", a.locus.edges.grazing_baseline_rows},
       {"grazing_baseline_noise_sigmas", a.locus.edges.grazing_baseline_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
+      {"undecided_before_shadow_steps", a.locus.undecided_before_shadow},
       {"methods", methodsJson(pooled)},
       {"families", by_family},
       {"elapsed_ms", millisecondsSince(start)}};

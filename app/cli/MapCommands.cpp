@@ -101,6 +101,11 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "cells between samples farther apart on the ground are unknown [m]; inf: off")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd.add_option("--undecided-before-shadow", locus.undecided_before_shadow,
+                 "shadow cells closer to the occluder's last sample than this many of the "
+                 "samples' steps before it are unknown: the edge may lie there [steps]; 0: off")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
 }
 
 void addMap(CLI::App& app) {

@@ -120,6 +120,9 @@ struct CellResult {
   // The fractional image row where the line met the surface; NaN where the
   // walk found no crossing.
   double row = NAN;
+  // Shadow, but within the undecided stretch beyond the occluder's last
+  // sample (LocusOptions::undecided_before_shadow).
+  bool undecided = false;
 };
 
 // The heights of the line over which Delta is within the noise of zero.
@@ -173,7 +176,7 @@ PixelTable rowTable(const sensor::ScanGeometry& g) {
 class LocusSolver {
  public:
   LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-              double max_sample_spacing_m);
+              double max_sample_spacing_m, double undecided_steps);
 
   // Median world height of the image's points (every 4th row and column):
   // where the search of the first cell of each map row starts.
@@ -214,6 +217,7 @@ class LocusSolver {
   bool nearEdge(int quad_row, int quad_col) const {
     return near_edge_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
+  bool isUndecided(const Line& line, int quad_row, double col) const;
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
@@ -226,6 +230,7 @@ class LocusSolver {
   const RangeImage& image_;
   const OccludingEdges& edges_;
   const sensor::ScanGeometry& g_;
+  double undecided_steps_ = 0.0;  // LocusOptions::undecided_before_shadow
   double typical_height_ = 0.0;  // see typicalHeight() [m]
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
@@ -238,6 +243,7 @@ class LocusSolver {
   std::vector<float> range_;
   double farthest_return_ = 0.0;        // the sensor reaches at least this far [m]
   std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
+  std::vector<float> across_;           // per pixel, horizontal distance from the sensor [m]
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
   std::vector<double> sin_half_, cos_half_;
@@ -259,10 +265,11 @@ class LocusSolver {
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-                         double max_sample_spacing_m)
+                         double max_sample_spacing_m, double undecided_steps)
     : image_(image),
       edges_(edges),
       g_(image.geometry),
+      undecided_steps_(undecided_steps),
       column_table_(columnTable(image.geometry)),
       row_table_(rowTable(image.geometry)) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
@@ -294,6 +301,9 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
             (origin_ + image.at(r, c) * (rotation * direction)).cast<float>();
       }
   }
+  across_.resize(world_.size());
+  for (std::size_t i = 0; i < world_.size(); ++i)
+    across_[i] = (world_[i].head<2>() - origin_.head<2>().cast<float>()).norm();
   std::vector<double> z;
   for (int r = 0; r < g_.rows; r += 4)
     for (int c = 0; c < g_.cols; c += 4)
@@ -670,13 +680,40 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
 CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, double u, double col,
                                int quad_col) const {
   const int quad_row = std::min(br.upper.row, br.lower.row);
-  if (edges_.quadIsEdge(quad_row, quad_col)) return {CellState::kShadow, t};
+  if (edges_.quadIsEdge(quad_row, quad_col)) {
+    CellResult shadow{CellState::kShadow, t};
+    shadow.undecided = undecided_steps_ > 0 && isUndecided(line, quad_row, col);
+    return shadow;
+  }
   if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = samplingSigma(quad_row, quad_col);
   const auto state =
       edges_.quadIsGrazing(quad_row, quad_col) ? CellState::kOblique : CellState::kKnown;
   return {state, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
+}
+
+// krotkov1989 §3.2: an occluding edge lies somewhere between the last
+// sample on the occluder and where the next would have met it had it gone
+// on: one step of the samples before, horizontally. Ground up to there may
+// have been seen at the last samples' grazing angle, or hidden; a smooth
+// crest hides nothing until it turns away from the ray. Only for a jump
+// across scanlines at the cell's column, larger than two such steps; the
+// step is taken over two scanlines, less 1.5 std. dev. of its range noise.
+bool LocusSolver::isUndecided(const Line& line, int quad_row, double col) const {
+  const int c = std::clamp(int(std::lround(col)), 0, g_.cols - 1);
+  auto reach = [&](int r) { return double(across_[std::size_t(r) * g_.cols + c]); };
+  const double upper = reach(quad_row), lower = reach(quad_row + 1);
+  const int near = upper < lower ? quad_row : quad_row + 1;
+  const int before = near + (upper < lower ? -2 : 2);
+  if (before < 0 || before >= g_.rows) return false;
+  const double near_reach = reach(near), before_reach = reach(before);
+  const double noise = sensor::rangeSigma(image_.at(near, c), image_.range_sigma_k);
+  const double step = (near_reach - before_reach) / 2 - 1.5 * std::sqrt(2.0) * noise;
+  // NaN (a pixel without a return) fails every test.
+  if (!(step > 0 && std::max(upper, lower) - near_reach > 2 * step)) return false;
+  const double cell_reach = std::sqrt(line.a.squaredNorm() - origin_.z() * origin_.z());
+  return cell_reach - near_reach < undecided_steps_ * step;
 }
 
 // krotkov1989 §3.2, note 5: far off, a shadow may be no larger than the
@@ -691,12 +728,9 @@ void LocusSolver::markSparseQuads(double max_spacing_m) {
   const int quad_rows = g_.rows - 1, quad_cols = g_.cols - 1;
   sparse_.assign(std::size_t(quad_rows) * quad_cols, 0);
   if (!std::isfinite(max_spacing_m)) return;
-  std::vector<float> across(world_.size());  // each point's horizontal distance from the sensor
-  for (std::size_t i = 0; i < world_.size(); ++i)
-    across[i] = (world_[i].head<2>() - origin_.head<2>().cast<float>()).norm();
   auto spacing = [&](int quad_row, int c) {
     int a = std::max(quad_row - 1, 0), b = std::min(quad_row + 2, g_.rows - 1);
-    auto at = [&](int r) { return double(across[std::size_t(r) * g_.cols + c]); };
+    auto at = [&](int r) { return double(across_[std::size_t(r) * g_.cols + c]); };
     if (std::isnan(at(a))) a = quad_row;
     if (std::isnan(at(b))) b = quad_row + 1;
     const double noise = sensor::rangeSigma(image_.at(quad_row, c), image_.range_sigma_k);
@@ -945,7 +979,9 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
-  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m);
+  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m,
+                           options.undecided_before_shadow);
+  std::vector<std::uint8_t> undecided(std::size_t(grid.rows) * grid.cols, 0);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
@@ -957,6 +993,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
       const auto p = grid.cellCenter(r, c);
       const auto result = solver.solve(p.x(), p.y(), z_guess, row_hint);
       row_hint = result.row;
+      undecided[std::size_t(r) * grid.cols + c] = result.undecided;
       if (hasHeight(result.state))
         map.setHeight(r, c, result.state, result.z, result.sigma);
       else
@@ -968,6 +1005,10 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   if (options.oblique_shadow_sides)
     markShadowSidesOblique(map, image.sensor_to_world.translation().head<2>(),
                            options.oblique_shadow_far_ends);
+  // After the sides: they border the whole stretch a shadow's edge may lie in.
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (undecided[std::size_t(r) * grid.cols + c]) map.setUnobserved(r, c, CellState::kUnknown);
   return map;
 }
 

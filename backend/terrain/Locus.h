@@ -20,6 +20,11 @@ struct LocusOptions {
   // distance between data points). The Ambler's foot is 0.3 m across: a
   // hole it could step into fits between sparser samples. INFINITY: off.
   double max_sample_spacing_m = 0.3;
+  // Shadow cells closer to the occluder's last sample than this many of the
+  // samples' steps before it are unknown instead: the edge may lie anywhere
+  // up to the next step, and ground before it was seen, if at all, at the
+  // last samples' grazing angle (README, elevation maps). 0: off.
+  double undecided_before_shadow = 0.5;
   // Known cells beside a shadow across the line of sight (its sides, where
   // interpolation meets unseen ground) become oblique (README, elevation
   // maps).

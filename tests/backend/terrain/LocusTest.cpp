@@ -373,6 +373,8 @@ TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   LocusOptions plain, sides;
   plain.oblique_shadow_sides = false;
   sides.oblique_shadow_far_ends = false;  // KnownCellsBeyondAShadowBecomeOblique
+  // Undecided shadow is unknown after the sides are marked: the rule's alone.
+  plain.undecided_before_shadow = sides.undecided_before_shadow = 0;
   const auto before = buildLocusMap(image, grid, plain);
   const auto after = buildLocusMap(image, grid, sides);
   const int occluded_known_before = occludedKnown(before, truth);
@@ -427,6 +429,74 @@ TEST(Locus, KnownCellsBeyondAShadowBecomeOblique) {
       20);
   EXPECT_GT(made_up_before, 50);
   EXPECT_LT(made_up_after, made_up_before / 2);  // 118 to 31
+}
+
+// A ridge along x: z = height exp(-((y - y0) / width)^2), smooth everywhere.
+class RidgeTerrain : public sim::Terrain {
+ public:
+  RidgeTerrain(double y0, double height, double width) : y0_(y0), h_(height), w_(width) {}
+  double height(double, double y) const override {
+    return h_ * std::exp(-std::pow((y - y0_) / w_, 2));
+  }
+  double maxHeightIn(const Box2& b) const override {
+    return height(0, std::clamp(y0_, b.y_min, b.y_max));
+  }
+  Box2 extent() const override { return {-100, -100, 100, 100}; }
+
+ private:
+  double y0_, h_, w_;
+};
+
+// Shadow cells the truth has visible with no occluded cell within one cell
+// (the eval's one-cell tolerance), and occluded cells with no shadow within
+// one cell.
+struct ShadowMisses {
+  int false_shadow = 0, occluded = 0, occluded_missed = 0;
+};
+ShadowMisses shadowMisses(const ElevationMap& map, const sim::VisibilityTruth& truth) {
+  const GridSpec& g = map.grid();
+  auto near = [&](int r, int c, auto&& is) {
+    for (int i = std::max(r - 1, 0); i <= std::min(r + 1, g.rows - 1); ++i)
+      for (int j = std::max(c - 1, 0); j <= std::min(c + 1, g.cols - 1); ++j)
+        if (is(i, j)) return true;
+    return false;
+  };
+  auto occluded = [&](int r, int c) {
+    return truth.state(r, c) == std::uint8_t(sim::Visibility::kOccluded);
+  };
+  auto shadow = [&](int r, int c) { return map.state(r, c) == CellState::kShadow; };
+  ShadowMisses m;
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      m.false_shadow += shadow(r, c) && !near(r, c, occluded);
+      m.occluded += occluded(r, c);
+      m.occluded_missed += occluded(r, c) && !near(r, c, shadow);
+    }
+  return m;
+}
+
+// A smooth crest seen from 1.5 m: the ground beyond the last sample on it
+// turns away from the rays gradually and stays visible, at a grazing angle,
+// for up to a sample step before it falls below them. Shadow drawn from the
+// last sample on is false there; ground within half a step of it is unknown
+// instead. Every occluded cell keeps shadow within one cell.
+TEST(Locus, GroundJustBeyondACrestsLastSampleIsUnknownNotShadow) {
+  auto m = scanner(0.0);
+  m.mount_height = 1.5;
+  m.tilt = 10 * kDeg;
+  const GridSpec grid = GridSpec::covering({-3, 6, 3, 18}, 0.05);
+  const RidgeTerrain ridge(12, 0.6, 1.5);
+  const auto scan = scanAndMap(ridge, grid, m);
+  const auto image = sim::simulateScan(sim::RayCaster(ridge), m, m.mountPose({0, 0, 0}), 1);
+  LocusOptions last_sample_on;
+  last_sample_on.undecided_before_shadow = 0;
+  const auto before = shadowMisses(buildLocusMap(image, grid, last_sample_on), scan.truth);
+  const auto after = shadowMisses(scan.map, scan.truth);
+  EXPECT_GT(before.occluded, 10000);
+  EXPECT_GT(before.false_shadow, 500);
+  // 960 to 720: the rest lies beyond half a step, where the edge is as likely.
+  EXPECT_LT(after.false_shadow, 0.8 * before.false_shadow);
+  EXPECT_EQ(after.occluded_missed, 0);
 }
 
 // (error / sigma)^2 summed over the cells with a height (known or oblique:
