@@ -72,6 +72,7 @@ nlohmann::json scoreJson(const terrain::MapScore& s) {
           {"shadow_precision", optionalNumber(s.shadowPrecision())},
           {"shadow_recall_within_1_cell", optionalNumber(s.shadowRecallWithin1())},
           {"shadow_precision_within_1_cell", optionalNumber(s.shadowPrecisionWithin1())},
+          {"shadow_out_of_view", optionalNumber(s.shadowOutOfView())},
           {"occluded_known", optionalNumber(s.occludedKnown())},
           {"occluded_known_far", s.occludedKnownFar()},
           {"occluded_known_error_p50_m", optionalNumber(s.occludedKnownError(0.5))},

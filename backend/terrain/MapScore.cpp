@@ -33,6 +33,7 @@ void MapScore::add(const ElevationMap& map, const io::FloatImage& true_height,
       const int truth = true_state(r, c);
       const auto state = map.state(r, c);
       if (truth == 0) ++visible_, visible_oblique_ += state == CellState::kOblique;
+      shadow_out_of_view_ += truth == 1 && state == CellState::kShadow;
       if (truth != 1) {
         const bool shadow = state == CellState::kShadow, occluded = truth == 2;
         shadow_hit_ += shadow && occluded;
@@ -92,6 +93,10 @@ std::optional<double> MapScore::shadowRecallWithin1() const {
 
 std::optional<double> MapScore::shadowPrecisionWithin1() const {
   return ratio(double(shadow_right_), shadow_);
+}
+
+std::optional<double> MapScore::shadowOutOfView() const {
+  return ratio(double(shadow_out_of_view_), shadow_ + shadow_out_of_view_);
 }
 
 std::optional<double> MapScore::occludedKnown() const {

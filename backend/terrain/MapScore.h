@@ -37,6 +37,10 @@ class MapScore {
   // cell within one cell.
   std::optional<double> shadowRecallWithin1() const;
   std::optional<double> shadowPrecisionWithin1() const;
+  // The share of the map's shadow cells that lie outside the field of view,
+  // which the precisions above leave out: ground nobody could have seen
+  // shown as hidden behind an occluder.
+  std::optional<double> shadowOutOfView() const;
   // Safety: the fraction of truly occluded cells the map reports known
   // (their height is made up), and how many of those have no truly
   // visible cell within one cell.
@@ -59,6 +63,7 @@ class MapScore {
   long visible_ = 0, visible_known_ = 0, visible_oblique_ = 0;
   long shadow_hit_ = 0, shadow_false_ = 0, shadow_missed_ = 0;
   long occluded_ = 0, occluded_found_ = 0, shadow_ = 0, shadow_right_ = 0;
+  long shadow_out_of_view_ = 0;
   long occluded_known_ = 0, occluded_known_far_ = 0;
   std::vector<float> occluded_known_errors_;
   // Sums of error / sigma: over all known cells, and over the visible ones.

@@ -198,6 +198,7 @@ TEST(MapScore, CountsAgainstTruth) {
   EXPECT_DOUBLE_EQ(*score.coverage(), 0.5);
   EXPECT_DOUBLE_EQ(*score.shadowRecall(), 0.5);
   EXPECT_DOUBLE_EQ(*score.shadowPrecision(), 0.5);
+  EXPECT_DOUBLE_EQ(*score.shadowOutOfView(), 0.0);
   EXPECT_FALSE(score.sigmaCalibration());  // one ratio is not a spread
   EXPECT_THROW(score.add(map, io::FloatImage(2, 2), state), std::invalid_argument);
 }
@@ -240,6 +241,8 @@ TEST(MapScore, ToleratesOneCellAtShadowBoundariesAndCountsMadeUpCells) {
   EXPECT_DOUBLE_EQ(*score.shadowRecallWithin1(), 0.5);
   // Cell 2 is visible but next to occluded cells; cell 7 is outside view.
   EXPECT_DOUBLE_EQ(*score.shadowPrecisionWithin1(), 1.0);
+  // Of the three shadow cells, cell 7.
+  EXPECT_DOUBLE_EQ(*score.shadowOutOfView(), 1.0 / 3);
   // Cells 4 and 5 are occluded and reported known; 4 has no visible cell
   // next to it.
   EXPECT_DOUBLE_EQ(*score.occludedKnown(), 0.5);
