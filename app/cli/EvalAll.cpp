@@ -42,6 +42,8 @@ const Headline kHeadlines[] = {
      "/elevation/methods/locus/shadow_recall_within_1_cell", "", nullptr},
     {"range-shadow precision within one cell, locus",
      "/elevation/methods/locus/shadow_precision_within_1_cell", "", nullptr},
+    {"share of the range shadow that lies out of view, locus",
+     "/elevation/methods/locus/shadow_out_of_view", "", nullptr},
     {"occluded cells reported known, locus", "/elevation/methods/locus/occluded_known", "",
      nullptr},
     {"sigma calibration (std of error / sigma), locus",
