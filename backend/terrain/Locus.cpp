@@ -699,7 +699,8 @@ CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, do
 // have been seen at the last samples' grazing angle, or hidden; a smooth
 // crest hides nothing until it turns away from the ray. Only for a jump
 // across scanlines at the cell's column, larger than two such steps; the
-// step is taken over two scanlines, less 1.5 std. dev. of its range noise.
+// step is the mean over two scanlines, less 1.5 std. dev. of the range
+// difference it comes from.
 bool LocusSolver::isUndecided(const Line& line, int quad_row, double col) const {
   const int c = std::clamp(int(std::lround(col)), 0, g_.cols - 1);
   auto reach = [&](int r) { return double(across_[std::size_t(r) * g_.cols + c]); };

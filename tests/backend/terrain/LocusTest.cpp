@@ -486,12 +486,14 @@ TEST(Locus, GroundJustBeyondACrestsLastSampleIsUnknownNotShadow) {
   m.tilt = 10 * kDeg;
   const GridSpec grid = GridSpec::covering({-3, 6, 3, 18}, 0.05);
   const RidgeTerrain ridge(12, 0.6, 1.5);
-  const auto scan = scanAndMap(ridge, grid, m);
-  const auto image = sim::simulateScan(sim::RayCaster(ridge), m, m.mountPose({0, 0, 0}), 1);
+  const sim::RayCaster caster(ridge);
+  const auto pose = m.mountPose({0, 0, 0});
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
   LocusOptions last_sample_on;
   last_sample_on.undecided_before_shadow = 0;
-  const auto before = shadowMisses(buildLocusMap(image, grid, last_sample_on), scan.truth);
-  const auto after = shadowMisses(scan.map, scan.truth);
+  const auto before = shadowMisses(buildLocusMap(image, grid, last_sample_on), truth);
+  const auto after = shadowMisses(buildLocusMap(image, grid), truth);
   EXPECT_GT(before.occluded, 10000);
   EXPECT_GT(before.false_shadow, 500);
   // 960 to 720: the rest lies beyond half a step, where the edge is as likely.
