@@ -212,11 +212,13 @@ class LocusSolver {
   CellState hiddenBelowFreeSpace(RowSample n, double hidden_t, double& stop_t) const;
   HeightNoise sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
                             int quad_col) const;
-  double samplingSigma(int quad_row, int quad_col) const;
-  bool isSteepFace(int quad_row, int quad_col) const;
-  bool nearEdge(int quad_row, int quad_col) const {
-    return near_edge_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
+  double samplingSigma(int quad_row, int quad_col) const {
+    return sampling_sigma_[std::size_t(quad_row) * (g_.cols - 1) + quad_col];
   }
+  bool isSteepFace(int quad_row, int quad_col) const {
+    return steep_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
+  }
+  void tabulateQuads(const std::vector<std::uint8_t>& near_edge);
   bool isUndecided(const Line& line, int quad_row, double col) const;
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
@@ -237,10 +239,12 @@ class LocusSolver {
   std::vector<double> sin_phi_, cos_phi_;  // per scanline
   // 1 / (b_z cos(phi) - b_y sin(phi)) per scanline: every line shares the
   // direction b, so the denominator of eq. 2 depends on the scanline only.
+  // NaN for a scanline whose plane holds b: every line point on it is NaN,
+  // and so off the image, without a test.
   std::vector<double> inverse_den_;
   // The image's ranges with NaN where a pixel has no return, so that an
   // interpolation that uses such a pixel is NaN without a test.
-  std::vector<float> range_;
+  std::vector<double> range_;
   double farthest_return_ = 0.0;        // the sensor reaches at least this far [m]
   std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
   std::vector<float> across_;           // per pixel, horizontal distance from the sensor [m]
@@ -254,8 +258,10 @@ class LocusSolver {
   double sin_mid_ = 0.0, cos_mid_ = 1.0;
   PixelTable row_table_;
   double last_col_ = 0.0;  // the image's right border, cols - 0.5
-  // Per quad: an edge quad among it and its eight neighbours.
-  std::vector<std::uint8_t> near_edge_;
+  // Per quad: its normal is steeper than kSteepFaceCos (isSteepFace()).
+  std::vector<std::uint8_t> steep_;
+  // Per quad: the sampling part of a cell's height sigma [m] (samplingSigma()).
+  std::vector<double> sampling_sigma_;
   // Per quad: its scanlines meet the ground farther apart than the limit.
   std::vector<std::uint8_t> sparse_;
   // Per image column, for the first and the last scanline: the horizontal
@@ -279,7 +285,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
     sin_phi_.push_back(std::sin(g_.phi(r)));
     cos_phi_.push_back(std::cos(g_.phi(r)));
     const double den = b_.z() * cos_phi_.back() - b_.y() * sin_phi_.back();
-    inverse_den_.push_back(std::abs(den) < 1e-12 ? INFINITY : 1.0 / den);
+    inverse_den_.push_back(std::abs(den) < 1e-12 ? NAN : 1.0 / den);
   }
   range_.assign(std::size_t(g_.rows) * g_.cols, NAN);
   for (int r = 0; r < g_.rows; ++r)
@@ -321,13 +327,14 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
       across[std::size_t(r) * quad_cols + c] = edges.quadIsEdge(r, std::max(c - 1, 0)) ||
                                                edges.quadIsEdge(r, c) ||
                                                edges.quadIsEdge(r, std::min(c + 1, quad_cols - 1));
-  near_edge_.assign(across.size(), 0);
+  std::vector<std::uint8_t> near_edge(across.size(), 0);
   for (int r = 0; r < quad_rows; ++r)
     for (int c = 0; c < quad_cols; ++c) {
       const std::size_t i = std::size_t(r) * quad_cols + c;
-      near_edge_[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
-                      across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
+      near_edge[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
+                     across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
     }
+  tabulateQuads(near_edge);
   markSparseQuads(max_sample_spacing_m);
   findBorderGround();
   last_col_ = g_.cols - 0.5;
@@ -414,7 +421,6 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
 [[gnu::always_inline]] inline LocusPoint LocusSolver::pointAt(const Line& line, int row) const {
   LocusPoint lp;
   const double sin_phi = sin_phi_[row], cos_phi = cos_phi_[row];
-  if (!std::isfinite(inverse_den_[row])) return lp;
   lp.t = (line.a.y() * sin_phi - line.a.z() * cos_phi) * inverse_den_[row];
   const Eigen::Vector3d p = line.a + lp.t * line.b;
   // p's distance from the sensor's x axis, negative in the opposite
@@ -624,8 +630,8 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
   std::array<double, 4> quad{};
   if (quad_col >= 0) {
     // A pixel without a return makes the search's f NaN: unknown.
-    const float* upper = &range_[std::size_t(br.upper.row) * g_.cols + quad_col];
-    const float* lower = &range_[std::size_t(br.lower.row) * g_.cols + quad_col];
+    const double* upper = &range_[std::size_t(br.upper.row) * g_.cols + quad_col];
+    const double* lower = &range_[std::size_t(br.lower.row) * g_.cols + quad_col];
     quad = {upper[0], upper[1], lower[0], lower[1]};
   }
   int used_quad_col = quad_col;
@@ -754,8 +760,8 @@ double LocusSolver::rangeAt(int upper, int lower, double u, double col, int& qua
   // the clamp (and truncation is not a library call).
   quad_col = std::clamp(int(col), 0, g_.cols - 2);
   const double fc = col - quad_col;  // beyond [0, 1] within half a pixel of the border
-  const float* a = &range_[std::size_t(upper) * g_.cols + quad_col];
-  const float* b = &range_[std::size_t(lower) * g_.cols + quad_col];
+  const double* a = &range_[std::size_t(upper) * g_.cols + quad_col];
+  const double* b = &range_[std::size_t(lower) * g_.cols + quad_col];
   const double top = a[0] + fc * (a[1] - a[0]);
   return top + u * (b[0] + fc * (b[1] - b[0]) - top);
 }
@@ -779,7 +785,7 @@ double LocusSolver::noiseOfRange(int upper, int lower, double u, double col) con
 // without returns.
 double LocusSolver::imageRangeOnRow(int row, double col) const {
   const int c0 = std::clamp(int(col), 0, g_.cols - 2);
-  const float* a = &range_[std::size_t(row) * g_.cols + c0];
+  const double* a = &range_[std::size_t(row) * g_.cols + c0];
   return a[0] + (col - c0) * (a[1] - a[0]);
 }
 
@@ -837,43 +843,60 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, doub
   return result;
 }
 
-// Sampling: the image only knows the surface at its pixels, so a cell's
-// height is bounded by the heights of the pixels around its crossing, taken
-// as uniform in between (std. dev. = spread / sqrt(12)): the quad's four
-// pixels, or the 4 x 4 around it within a pixel of an occluding edge, where
-// the cell may belong to either surface. The part of the spread that the
-// pixels' own height noise explains (about 2 sigma for four samples) is
-// already in the noise term and is taken off.
-double LocusSolver::samplingSigma(int quad_row, int quad_col) const {
-  int r0 = quad_row, r1 = quad_row, c0 = quad_col, c1 = quad_col;
-  if (nearEdge(quad_row, quad_col)) {
-    r0 = std::max(quad_row - 1, 0), r1 = std::min(quad_row + 1, g_.rows - 2);
-    c0 = std::max(quad_col - 1, 0), c1 = std::min(quad_col + 1, g_.cols - 2);
-  }
-  double lo = INFINITY, hi = -INFINITY;
-  for (int r = r0; r <= r1 + 1; ++r)
-    for (int c = c0; c <= c1 + 1; ++c) {
-      const double z = world_[std::size_t(r) * g_.cols + c].z();
-      if (std::isnan(z)) continue;
-      lo = std::min(lo, z), hi = std::max(hi, z);
-    }
-  if (!(hi > lo)) return 0.0;
-  // Vertical noise of one pixel: k rho^2 times the ray's vertical part.
-  const double rho = image_.at(quad_row, quad_col);
-  const double height_noise = image_.range_sigma_k * rho * std::abs(origin_.z() - lo);
-  return std::max(hi - lo - 2 * height_noise, 0.0) / std::sqrt(12.0);
-}
-
-// A vertical line running along a steep face (a box side, a trench wall)
-// meets it over a long stretch: its crossing, and so the cell's height, is
-// not determined. The quad's surface normal, from its diagonals, tells.
-bool LocusSolver::isSteepFace(int quad_row, int quad_col) const {
-  const auto at = [&](int r, int c) -> Eigen::Vector3d {
-    return world_[std::size_t(r) * g_.cols + c].cast<double>();
+// Per quad, what finish() needs of it beyond the crossing: whether it is a
+// steep face, and the sampling part of a height's sigma. Tabulated for the
+// whole image: cells outnumber quads, and neighbouring cells share them.
+void LocusSolver::tabulateQuads(const std::vector<std::uint8_t>& near_edge) {
+  const int cols = g_.cols, quad_rows = g_.rows - 1, quad_cols = cols - 1;
+  const auto at = [&](std::size_t pixel) -> Eigen::Vector3d {
+    return world_[pixel].cast<double>();
   };
-  const Eigen::Vector3d n = (at(quad_row + 1, quad_col + 1) - at(quad_row, quad_col))
-                                .cross(at(quad_row, quad_col + 1) - at(quad_row + 1, quad_col));
-  return std::abs(n.z()) < kSteepFaceCos * n.norm();
+  // A vertical line running along a steep face (a box side, a trench wall)
+  // meets it over a long stretch: its crossing, and so the cell's height, is
+  // not determined. The quad's normal, from its diagonals, tells.
+  steep_.assign(std::size_t(quad_rows) * quad_cols, 0);
+  for (int r = 0; r < quad_rows; ++r)
+    for (int c = 0; c < quad_cols; ++c) {
+      const std::size_t p = std::size_t(r) * cols + c, q = p + cols;
+      const Eigen::Vector3d n = (at(q + 1) - at(p)).cross(at(p + 1) - at(q));
+      steep_[std::size_t(r) * quad_cols + c] = std::abs(n.z()) < kSteepFaceCos * n.norm();
+    }
+  // Sampling: the image only knows the surface at its pixels, so a cell's
+  // height is bounded by the heights of the pixels around its crossing,
+  // taken as uniform in between (std. dev. = spread / sqrt(12)): the quad's
+  // four pixels, or the 4 x 4 around it within a pixel of an occluding edge,
+  // where the cell may belong to either surface. Per quad, the lowest and
+  // highest of its four pixels, those without a return left out (as
+  // -+infinity).
+  std::vector<float> lo(world_.size()), hi(world_.size());
+  for (std::size_t i = 0; i < world_.size(); ++i) {
+    const float z = world_[i].z();
+    lo[i] = std::isnan(z) ? INFINITY : z, hi[i] = std::isnan(z) ? -INFINITY : z;
+  }
+  const std::size_t quad_pixels = world_.size() - cols - 1;  // the quads' top-left pixels
+  for (std::size_t i = 0; i < quad_pixels; ++i) {
+    lo[i] = std::min(std::min(lo[i], lo[i + 1]), std::min(lo[i + cols], lo[i + cols + 1]));
+    hi[i] = std::max(std::max(hi[i], hi[i + 1]), std::max(hi[i + cols], hi[i + cols + 1]));
+  }
+  sampling_sigma_.assign(steep_.size(), 0.0);
+  const double k = image_.range_sigma_k, sensor_z = origin_.z();
+  for (int r = 0; r < quad_rows; ++r)
+    for (int c = 0; c < quad_cols; ++c) {
+      const std::size_t quad = std::size_t(r) * quad_cols + c;
+      double low = lo[std::size_t(r) * cols + c], high = hi[std::size_t(r) * cols + c];
+      if (near_edge[quad])
+        for (int nr = std::max(r - 1, 0); nr <= std::min(r + 1, quad_rows - 1); ++nr)
+          for (int nc = std::max(c - 1, 0); nc <= std::min(c + 1, quad_cols - 1); ++nc) {
+            low = std::min(low, double(lo[std::size_t(nr) * cols + nc]));
+            high = std::max(high, double(hi[std::size_t(nr) * cols + nc]));
+          }
+      if (!(high > low)) continue;
+      // The part of the spread that the pixels' own height noise explains
+      // (about 2 sigma for four samples; k rho^2 times the ray's vertical
+      // part each) is already in the noise term and is taken off.
+      const double height_noise = k * image_.at(r, c) * std::abs(sensor_z - low);
+      sampling_sigma_[quad] = std::max(high - low - 2 * height_noise, 0.0) / std::sqrt(12.0);
+    }
 }
 
 // Follows the line up and down from the bracket over the scanlines where
