@@ -92,10 +92,12 @@ struct RowSample {
   double delta = 0.0;  // rho_I - I at the nearest column [m]
 };
 
-// Two adjacent scanlines between which the line goes behind the surface.
+// Two adjacent scanlines between which the line goes behind the surface,
+// and the scanlines just beyond them, where sampled (sigmaOfHeight()).
 struct Bracket {
   RowSample upper;  // the line in front of the surface (Delta < 0)
   RowSample lower;  // the line behind it
+  RowSample above, below;
 };
 
 // What the range noise does to a cell's height.
@@ -108,8 +110,6 @@ struct HeightNoise {
   // Delta stays within the noise beyond the bracket, or its slope is not
   // significant: the crossing may be one of several.
   bool ambiguous = false;
-  // The scanlines just above and below the bracket, where sampled.
-  RowSample above{}, below{};
 };
 
 struct CellResult {
@@ -206,18 +206,17 @@ class LocusSolver {
   Line lineThrough(double x, double y) const {
     return {world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
   }
-  CellResult refine(const Line& line, const Bracket& br) const;
-  CellResult finish(const Line& line, const Bracket& br, double t, double u, double col,
+  CellResult refine(const Line& line, Bracket& br) const;
+  CellResult finish(const Line& line, Bracket& br, double t, double u, double col,
                     int quad_col) const;
-  Band followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
-                  const RowSample& below) const;
+  Band followBand(const Line& line, int down, const Bracket& br) const;
   double rangeAt(int upper, int lower, double u, double col, int& quad_col) const;
   double noiseOfRange(int upper, int lower, double u, double col) const;
   double imageRangeOnRow(int row, double col) const;
   bool passesInFreeSpace(const RowSample& n) const;
   int firstReturnBelow(const Line& line, int down, RowSample s) const;
   CellState hiddenBelowFreeSpace(RowSample n, double hidden_t, double& stop_t) const;
-  HeightNoise sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
+  HeightNoise sigmaOfHeight(const Line& line, Bracket& br, double u, double col,
                             int quad_col) const;
   double samplingSigma(int quad_row, int quad_col) const {
     return sampling_sigma_[std::size_t(quad_row) * (g_.cols - 1) + quad_col];
@@ -406,7 +405,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   // scanlines measure better where the noise is large (far ground). Beyond
   // that, the cell's height is the band's middle, give or take half the
   // band.
-  const Band band = followBand(line, down, bracket, result.noise.above, result.noise.below);
+  const Band band = followBand(line, down, bracket);
   const double pixel_sigma = sensor::rangeSigma(bracket.upper.at.rho, image_.range_sigma_k);
   const double by_crossing =
       result.noise.significant ? 6 * pixel_sigma * result.noise.height_per_range : 0.0;
@@ -535,7 +534,8 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
       return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(n, s.at.t, stop_t)
                                           : CellState::kUnknown;
     if ((n.delta < 0) != (s.delta < 0)) {
-      bracket = s.delta < 0 ? Bracket{s, n} : Bracket{n, s};
+      bracket.upper = s.delta < 0 ? s : n;
+      bracket.lower = s.delta < 0 ? n : s;
       return CellState::kKnown;
     }
     s = n;
@@ -645,7 +645,7 @@ void LocusSolver::findBorderGround() {
 // step. Within one scanline spacing the locus column theta_I(phi) is
 // linear to far below a thousandth of a pixel, so it is interpolated
 // between the exact columns at the two scanlines.
-CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
+CellResult LocusSolver::refine(const Line& line, Bracket& br) const {
   const int sign = (br.lower.row - br.upper.row) * g_.phi_step > 0 ? 1 : -1;
   const double col_upper = br.upper.at.col, col_step = br.lower.at.col - br.upper.at.col;
   // The four pixels around the intersection: fixed for the whole search
@@ -708,7 +708,7 @@ CellResult LocusSolver::refine(const Line& line, const Bracket& br) const {
 }
 
 // Shadow, face, oblique or known; for a cell with a height, its sigma.
-CellResult LocusSolver::finish(const Line& line, const Bracket& br, double t, double u, double col,
+CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u, double col,
                                int quad_col) const {
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) {
@@ -821,8 +821,10 @@ double LocusSolver::imageRangeOnRow(int row, double col) const {
 // by 1/8 of the image's second difference along the locus. dDelta/drow is
 // a least-squares slope over up to four scanlines, which damps the noise of
 // a two-point difference; an outer scanline across an occluding edge is
-// left out of the slope.
-HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, double u, double col,
+// left out of the slope. The outer scanlines' samples go into the bracket
+// (above, below), where followBand() goes on from them, and not into the
+// result, which is copied on its way back up.
+HeightNoise LocusSolver::sigmaOfHeight(const Line& line, Bracket& br, double u, double col,
                                        int quad_col) const {
   const int step = br.lower.row - br.upper.row;
   HeightNoise result;
@@ -831,10 +833,10 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, const Bracket& br, doub
   // step on from the bracket's.
   const double col_step = br.lower.at.col - br.upper.at.col;
   if (br.upper.row - step >= 0 && br.upper.row - step < g_.rows)
-    result.above = sampleRowAt(line, br.upper.row - step, br.upper.at.col - col_step);
+    br.above = sampleRowAt(line, br.upper.row - step, br.upper.at.col - col_step);
   if (br.lower.row + step >= 0 && br.lower.row + step < g_.rows)
-    result.below = sampleRowAt(line, br.lower.row + step, br.lower.at.col + col_step);
-  const std::array<const RowSample*, 4> samples{&result.above, &br.upper, &br.lower, &result.below};
+    br.below = sampleRowAt(line, br.lower.row + step, br.lower.at.col + col_step);
+  const std::array<const RowSample*, 4> samples{&br.above, &br.upper, &br.lower, &br.below};
   std::array<bool, 4> ok{};
   std::array<double, 4> delta{}, range{};
   for (int i = 0; i < 4; ++i) {
@@ -931,8 +933,7 @@ void LocusSolver::tabulateQuads(const std::vector<std::uint8_t>& near_edge) {
 // Follows the line up and down from the bracket over the scanlines where
 // |Delta| is within 3 sigma of the range noise, the stretch that may hold
 // the surface.
-Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, const RowSample& above,
-                             const RowSample& below) const {
+Band LocusSolver::followBand(const Line& line, int down, const Bracket& br) const {
   const double noise_per_rho2 = 3 * image_.range_sigma_k;
   // From one end of the bracket, `away` from the other, while Delta has
   // not left the noise on the side away from the bracket. The first step
@@ -949,8 +950,8 @@ Band LocusSolver::followBand(const Line& line, int down, const Bracket& br, cons
       delta = next.delta, rho = next.at.rho, t = next.at.t;
     }
   };
-  Band band = follow(br.lower, below, down, 1.0);
-  band.merge(follow(br.upper, above, -down, -1.0));
+  Band band = follow(br.lower, br.below, down, 1.0);
+  band.merge(follow(br.upper, br.above, -down, -1.0));
   return band;
 }
 
