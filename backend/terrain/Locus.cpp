@@ -224,7 +224,8 @@ class LocusSolver {
   bool isSteepFace(int quad_row, int quad_col) const {
     return steep_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
-  void tabulateQuads(const std::vector<std::uint8_t>& near_edge);
+  void tabulateSteepFaces();
+  void tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge);
   bool isUndecided(const Line& line, int quad_row, double col) const;
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
@@ -264,9 +265,9 @@ class LocusSolver {
   double sin_mid_ = 0.0, cos_mid_ = 1.0;
   PixelTable row_table_;
   double last_col_ = 0.0;  // the image's right border, cols - 0.5
-  // Per quad: its normal is steeper than kSteepFaceCos (isSteepFace()).
+  // Per quad: its normal is steeper than kSteepFaceCos (tabulateSteepFaces()).
   std::vector<std::uint8_t> steep_;
-  // Per quad: the sampling part of a cell's height sigma [m] (samplingSigma()).
+  // Per quad: the sampling part of a cell's height sigma [m] (tabulateSamplingSigma()).
   std::vector<double> sampling_sigma_;
   // Per quad: its scanlines meet the ground farther apart than the limit.
   std::vector<std::uint8_t> sparse_;
@@ -340,7 +341,8 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
       near_edge[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
                      across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
     }
-  tabulateQuads(near_edge);
+  tabulateSteepFaces();
+  tabulateSamplingSigma(near_edge);
   markSparseQuads(max_sample_spacing_m);
   findBorderGround();
   last_col_ = g_.cols - 0.5;
@@ -874,17 +876,18 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, Bracket& br, double u, 
   return result;
 }
 
-// Per quad, what finish() needs of it beyond the crossing: whether it is a
-// steep face, and the sampling part of a height's sigma. Tabulated for the
-// whole image: cells outnumber quads, and neighbouring cells share them.
-void LocusSolver::tabulateQuads(const std::vector<std::uint8_t>& near_edge) {
+// What finish() needs of a quad beyond the crossing is tabulated for the
+// whole image (tabulateSteepFaces(), tabulateSamplingSigma()): cells
+// outnumber quads, and neighbouring cells share them.
+//
+// A vertical line running along a steep face (a box side, a trench wall)
+// meets it over a long stretch: its crossing, and so the cell's height, is
+// not determined. The quad's normal, from its diagonals, tells.
+void LocusSolver::tabulateSteepFaces() {
   const int cols = g_.cols, quad_rows = g_.rows - 1, quad_cols = cols - 1;
   const auto at = [&](std::size_t pixel) -> Eigen::Vector3d {
     return world_[pixel].cast<double>();
   };
-  // A vertical line running along a steep face (a box side, a trench wall)
-  // meets it over a long stretch: its crossing, and so the cell's height, is
-  // not determined. The quad's normal, from its diagonals, tells.
   steep_.assign(std::size_t(quad_rows) * quad_cols, 0);
   for (int r = 0; r < quad_rows; ++r)
     for (int c = 0; c < quad_cols; ++c) {
@@ -892,13 +895,17 @@ void LocusSolver::tabulateQuads(const std::vector<std::uint8_t>& near_edge) {
       const Eigen::Vector3d n = (at(q + 1) - at(p)).cross(at(p + 1) - at(q));
       steep_[std::size_t(r) * quad_cols + c] = std::abs(n.z()) < kSteepFaceCos * n.norm();
     }
-  // Sampling: the image only knows the surface at its pixels, so a cell's
-  // height is bounded by the heights of the pixels around its crossing,
-  // taken as uniform in between (std. dev. = spread / sqrt(12)): the quad's
-  // four pixels, or the 4 x 4 around it within a pixel of an occluding edge,
-  // where the cell may belong to either surface. Per quad, the lowest and
-  // highest of its four pixels, those without a return left out (as
-  // -+infinity).
+}
+
+// Sampling: the image only knows the surface at its pixels, so a cell's
+// height is bounded by the heights of the pixels around its crossing, taken
+// as uniform in between (std. dev. = spread / sqrt(12)): the quad's four
+// pixels, or the 4 x 4 around it where `near_edge` (within a pixel of an
+// occluding edge), where the cell may belong to either surface.
+void LocusSolver::tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge) {
+  const int cols = g_.cols, quad_rows = g_.rows - 1, quad_cols = cols - 1;
+  // Per quad, the lowest and highest of its four pixels, those without a
+  // return left out (as -+infinity).
   std::vector<float> lo(world_.size()), hi(world_.size());
   for (std::size_t i = 0; i < world_.size(); ++i) {
     const float z = world_[i].z();
@@ -909,7 +916,7 @@ void LocusSolver::tabulateQuads(const std::vector<std::uint8_t>& near_edge) {
     lo[i] = std::min(std::min(lo[i], lo[i + 1]), std::min(lo[i + cols], lo[i + cols + 1]));
     hi[i] = std::max(std::max(hi[i], hi[i + 1]), std::max(hi[i + cols], hi[i + cols + 1]));
   }
-  sampling_sigma_.assign(steep_.size(), 0.0);
+  sampling_sigma_.assign(std::size_t(quad_rows) * quad_cols, 0.0);
   const double k = image_.range_sigma_k, sensor_z = origin_.z();
   for (int r = 0; r < quad_rows; ++r)
     for (int c = 0; c < quad_cols; ++c) {
