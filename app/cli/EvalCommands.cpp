@@ -325,6 +325,8 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"grazing_baseline_noise_sigmas", a.locus.edges.grazing_baseline_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"undecided_before_shadow_steps", a.locus.undecided_before_shadow},
+      {"undecided_shadow_far_end_share", a.locus.undecided_shadow_far_end},
+      {"crest_max_angle_deg", a.locus.crest_max_angle_deg},
       {"methods", methodsJson(pooled)},
       {"families", by_family},
       {"elapsed_ms", millisecondsSince(start)}};

@@ -106,6 +106,16 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "samples' steps before it are unknown: the edge may lie there [steps]; 0: off")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
+  cmd.add_option("--undecided-shadow-far-end", locus.undecided_shadow_far_end,
+                 "behind a crest, shadow cells in this share of the stretch where the shadow "
+                 "may end, nearest the ground's first sample, are unknown; 0: off")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd.add_option("--crest-max-angle", locus.crest_max_angle_deg,
+                 "an occluder is a crest when its last two samples lie within this angle of the "
+                 "ray through the last; else a face, which may go on unseen [deg]")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
 }
 
 void addMap(CLI::App& app) {

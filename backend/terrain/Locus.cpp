@@ -182,7 +182,7 @@ PixelTable rowTable(const sensor::ScanGeometry& g) {
 class LocusSolver {
  public:
   LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-              double max_sample_spacing_m, double undecided_steps);
+              const LocusOptions& options);
 
   // Median world height of the image's points (every 4th row and column):
   // where the search of the first cell of each map row starts.
@@ -226,7 +226,11 @@ class LocusSolver {
   }
   void tabulateSteepFaces();
   void tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge);
+  struct Jump;
+  Jump jumpAt(int quad_row, double col) const;
   bool isUndecided(const Line& line, int quad_row, double col) const;
+  double shadowFarEndFrom(const Jump& jump) const;
+  double reachAt(int row, int col) const { return across_[std::size_t(row) * g_.cols + col]; }
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
@@ -240,6 +244,8 @@ class LocusSolver {
   const OccludingEdges& edges_;
   const sensor::ScanGeometry& g_;
   double undecided_steps_ = 0.0;  // LocusOptions::undecided_before_shadow
+  double far_end_share_ = 0.0;    // LocusOptions::undecided_shadow_far_end
+  double cos_crest_ = 1.0;        // cos(LocusOptions::crest_max_angle_deg)
   double typical_height_ = 0.0;  // see typicalHeight() [m]
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
@@ -278,11 +284,13 @@ class LocusSolver {
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
-                         double max_sample_spacing_m, double undecided_steps)
+                         const LocusOptions& options)
     : image_(image),
       edges_(edges),
       g_(image.geometry),
-      undecided_steps_(undecided_steps),
+      undecided_steps_(options.undecided_before_shadow),
+      far_end_share_(options.undecided_shadow_far_end),
+      cos_crest_(std::cos(options.crest_max_angle_deg * M_PI / 180)),
       column_table_(columnTable(image.geometry)),
       row_table_(rowTable(image.geometry)) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
@@ -343,7 +351,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
     }
   tabulateSteepFaces();
   tabulateSamplingSigma(near_edge);
-  markSparseQuads(max_sample_spacing_m);
+  markSparseQuads(options.max_sample_spacing_m);
   findBorderGround();
   last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
@@ -715,7 +723,8 @@ CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u
   const int quad_row = std::min(br.upper.row, br.lower.row);
   if (edges_.quadIsEdge(quad_row, quad_col)) {
     CellResult shadow{CellState::kShadow, t};
-    shadow.undecided = undecided_steps_ > 0 && isUndecided(line, quad_row, col);
+    shadow.undecided =
+        (undecided_steps_ > 0 || far_end_share_ > 0) && isUndecided(line, quad_row, col);
     return shadow;
   }
   if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
@@ -724,6 +733,31 @@ CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u
   const auto state =
       edges_.quadIsGrazing(quad_row, quad_col) ? CellState::kOblique : CellState::kKnown;
   return {state, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
+}
+
+// The jump across a quad at one image column: its near and far scanlines
+// (by horizontal reach from the sensor), and the samples' horizontal step
+// before it. Invalid where the quad is no jump larger than two such steps.
+struct LocusSolver::Jump {
+  int column = 0, near = 0, dir = 1;  // far = near + dir
+  double near_reach = NAN, step = NAN;
+  bool valid() const { return std::isfinite(step); }
+};
+
+LocusSolver::Jump LocusSolver::jumpAt(int quad_row, double col) const {
+  Jump j;
+  j.column = std::clamp(int(std::lround(col)), 0, g_.cols - 1);
+  const double upper = reachAt(quad_row, j.column), lower = reachAt(quad_row + 1, j.column);
+  j.dir = upper < lower ? 1 : -1;
+  j.near = upper < lower ? quad_row : quad_row + 1;
+  const int before = j.near - 2 * j.dir;
+  if (before < 0 || before >= g_.rows) return j;
+  j.near_reach = reachAt(j.near, j.column);
+  const double noise = sensor::rangeSigma(image_.at(j.near, j.column), image_.range_sigma_k);
+  const double step = (j.near_reach - reachAt(before, j.column)) / 2 - 1.5 * std::sqrt(2.0) * noise;
+  // NaN (a pixel without a return) fails every test.
+  if (step > 0 && std::max(upper, lower) - j.near_reach > 2 * step) j.step = step;
+  return j;
 }
 
 // krotkov1989 §3.2: an occluding edge lies somewhere between the last
@@ -735,19 +769,37 @@ CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u
 // step is the mean over two scanlines, less 1.5 std. dev. of the range
 // difference it comes from.
 bool LocusSolver::isUndecided(const Line& line, int quad_row, double col) const {
-  const int c = std::clamp(int(std::lround(col)), 0, g_.cols - 1);
-  auto reach = [&](int r) { return double(across_[std::size_t(r) * g_.cols + c]); };
-  const double upper = reach(quad_row), lower = reach(quad_row + 1);
-  const int near = upper < lower ? quad_row : quad_row + 1;
-  const int before = near + (upper < lower ? -2 : 2);
-  if (before < 0 || before >= g_.rows) return false;
-  const double near_reach = reach(near), before_reach = reach(before);
-  const double noise = sensor::rangeSigma(image_.at(near, c), image_.range_sigma_k);
-  const double step = (near_reach - before_reach) / 2 - 1.5 * std::sqrt(2.0) * noise;
-  // NaN (a pixel without a return) fails every test.
-  if (!(step > 0 && std::max(upper, lower) - near_reach > 2 * step)) return false;
+  const Jump jump = jumpAt(quad_row, col);
+  if (!jump.valid()) return false;
   const double cell_reach = std::sqrt(line.a.squaredNorm() - origin_.z() * origin_.z());
-  return cell_reach - near_reach < undecided_steps_ * step;
+  if (cell_reach - jump.near_reach < undecided_steps_ * jump.step) return true;
+  return far_end_share_ > 0 && cell_reach > shadowFarEndFrom(jump);
+}
+
+// Behind a crest the last ray over it, tangent somewhere past the last
+// sample, meets the ground beyond between two bounds: where the ray through
+// the last sample meets that ground extended back (a line through its first
+// two samples, in the vertical plane of the column), and the ground's first
+// sample. Ground in the far share of that stretch may have been seen.
+// Behind a face the occluder may go on past its last sample and the shadow
+// with it: no bound there (+inf).
+double LocusSolver::shadowFarEndFrom(const Jump& jump) const {
+  const int prev = jump.near - jump.dir, far = jump.near + jump.dir, far2 = far + jump.dir;
+  if (far2 < 0 || far2 >= g_.rows || prev < 0 || prev >= g_.rows) return INFINITY;
+  auto at = [&](int r) {
+    return Eigen::Vector2d(reachAt(r, jump.column),
+                           world_[std::size_t(r) * g_.cols + jump.column].z() - origin_.z());
+  };
+  const Eigen::Vector2d last = at(jump.near), segment = last - at(prev);
+  // NaN fails the test: no bound.
+  if (!(std::abs(segment.dot(last)) > cos_crest_ * segment.norm() * last.norm())) return INFINITY;
+  const Eigen::Vector2d first = at(far), ground = at(far2) - first;
+  // The ray s * last meets first + u * ground: s (last x ground) = first x ground.
+  const double cross = last.x() * ground.y() - last.y() * ground.x();
+  const double s = (first.x() * ground.y() - first.y() * ground.x()) / cross;
+  const double ray_end = std::clamp(s * last.x(), last.x(), first.x());
+  if (!std::isfinite(ray_end)) return INFINITY;
+  return first.x() - far_end_share_ * (first.x() - ray_end);
 }
 
 // krotkov1989 §3.2, note 5: far off, a shadow may be no larger than the
@@ -764,7 +816,7 @@ void LocusSolver::markSparseQuads(double max_spacing_m) {
   if (!std::isfinite(max_spacing_m)) return;
   auto spacing = [&](int quad_row, int c) {
     int a = std::max(quad_row - 1, 0), b = std::min(quad_row + 2, g_.rows - 1);
-    auto at = [&](int r) { return double(across_[std::size_t(r) * g_.cols + c]); };
+    auto at = [&](int r) { return reachAt(r, c); };
     if (std::isnan(at(a))) a = quad_row;
     if (std::isnan(at(b))) b = quad_row + 1;
     const double noise = sensor::rangeSigma(image_.at(quad_row, c), image_.range_sigma_k);
@@ -1040,8 +1092,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   const OccludingEdges edges(image, options.edges);
   const double epsilon =
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
-  const LocusSolver solver(image, edges, epsilon, options.max_sample_spacing_m,
-                           options.undecided_before_shadow);
+  const LocusSolver solver(image, edges, epsilon, options);
   std::vector<std::uint8_t> undecided(std::size_t(grid.rows) * grid.cols, 0);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();

@@ -375,6 +375,7 @@ TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   sides.oblique_shadow_far_ends = false;  // KnownCellsBeyondAShadowBecomeOblique
   // Undecided shadow is unknown after the sides are marked: the rule's alone.
   plain.undecided_before_shadow = sides.undecided_before_shadow = 0;
+  plain.undecided_shadow_far_end = sides.undecided_shadow_far_end = 0;
   const auto before = buildLocusMap(image, grid, plain);
   const auto after = buildLocusMap(image, grid, sides);
   const int occluded_known_before = occludedKnown(before, truth);
@@ -492,13 +493,67 @@ TEST(Locus, GroundJustBeyondACrestsLastSampleIsUnknownNotShadow) {
   const auto truth = sim::computeVisibility(caster, m, pose, grid);
   LocusOptions last_sample_on;
   last_sample_on.undecided_before_shadow = 0;
+  LocusOptions near_half_only;
+  near_half_only.undecided_shadow_far_end = last_sample_on.undecided_shadow_far_end = 0;
   const auto before = shadowMisses(buildLocusMap(image, grid, last_sample_on), truth);
-  const auto after = shadowMisses(buildLocusMap(image, grid), truth);
+  const auto after = shadowMisses(buildLocusMap(image, grid, near_half_only), truth);
   EXPECT_GT(before.occluded, 10000);
   EXPECT_GT(before.false_shadow, 500);
   // 960 to 720: the rest lies beyond half a step, where the edge is as likely.
   EXPECT_LT(after.false_shadow, 0.8 * before.false_shadow);
   EXPECT_EQ(after.occluded_missed, 0);
+}
+
+// A smooth crest 0.3 m high seen from 1.5 m: the last ray over it, tangent
+// somewhere past the last sample on it, meets the ground beyond between
+// where the ray through that sample does (12.5 m out) and the first sample
+// there. Shadow in the far half of that stretch is unknown; none of it was
+// occluded, and every occluded cell keeps shadow within one cell.
+TEST(Locus, ShadowBehindACrestEndsBeforeTheFirstSampleBeyond) {
+  auto m = scanner(0.0);
+  m.mount_height = 1.5;
+  m.tilt = 10 * kDeg;
+  const GridSpec grid = GridSpec::covering({-3, 6, 3, 18}, 0.05);
+  const RidgeTerrain ridge(10, 0.3, 1.0);
+  const sim::RayCaster caster(ridge);
+  const auto pose = m.mountPose({0, 0, 0});
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  LocusOptions far_end_off;
+  far_end_off.undecided_shadow_far_end = 0;
+  const auto before = shadowMisses(buildLocusMap(image, grid, far_end_off), truth);
+  const auto after = shadowMisses(buildLocusMap(image, grid), truth);
+  EXPECT_GT(before.occluded, 5000);
+  EXPECT_GT(before.false_shadow, 500);
+  EXPECT_LT(after.false_shadow, 0.5 * before.false_shadow);  // 840 to 358
+  EXPECT_EQ(after.occluded_missed, 0);
+}
+
+// A bar 0.3 m high and deep on flat ground, seen from 1.5 m: its top lies
+// between two scanlines, so the last sample is on its front face and the
+// occluder goes on unseen. Its shadow ends where the ray over the far top
+// edge meets the ground, 10.3 * 1.5 / 1.2 = 12.875 m out, beyond where the
+// ray through the last sample would put it.
+TEST(Locus, ShadowBehindAFaceToppedBarReachesItsFarEnd) {
+  auto m = scanner(0.0);
+  m.mount_height = 1.5;
+  m.tilt = 10 * kDeg;
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::BoxObstacle{{0.0, 10.15, 0.0, 2.0, 0.15}, 0.3});
+  const sim::ProceduralTerrain ground(d);
+  const sim::RayCaster caster(ground);
+  const auto pose = m.mountPose({0, 0, 0});
+  const auto image = sim::simulateScan(caster, m, pose, 1);
+  const GridSpec grid = GridSpec::covering({-1.5, 8, 1.5, 16}, 0.05);
+  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto after = shadowMisses(buildLocusMap(image, grid), truth);
+  EXPECT_GT(after.occluded, 1000);
+  EXPECT_EQ(after.occluded_missed, 0);
+  // Taken for a crest, the bar would lose the end of its shadow (60 of 3,060 cells).
+  LocusOptions face_as_crest;
+  face_as_crest.crest_max_angle_deg = 90;
+  EXPECT_GT(shadowMisses(buildLocusMap(image, grid, face_as_crest), truth).occluded_missed, 50);
 }
 
 // (error / sigma)^2 summed over the cells with a height (known or oblique:
