@@ -476,21 +476,29 @@ ShadowMisses shadowMisses(const ElevationMap& map, const sim::VisibilityTruth& t
   return m;
 }
 
+// A scan of `terrain` from 1.5 m above the origin, tilted 10 degrees down,
+// without noise, and what the scanner truly sees of `grid`.
+struct ScanAndTruth {
+  sensor::RangeImage image;
+  sim::VisibilityTruth truth;
+};
+ScanAndTruth scanFromLowMast(const sim::Terrain& terrain, const GridSpec& grid) {
+  auto m = scanner(0.0);
+  m.mount_height = 1.5;
+  m.tilt = 10 * kDeg;
+  const sim::RayCaster caster(terrain);
+  const auto pose = m.mountPose({0, 0, 0});
+  return {sim::simulateScan(caster, m, pose, 1), sim::computeVisibility(caster, m, pose, grid)};
+}
+
 // A smooth crest seen from 1.5 m: the ground beyond the last sample on it
 // turns away from the rays gradually and stays visible, at a grazing angle,
 // for up to a sample step before it falls below them. Shadow drawn from the
 // last sample on is false there; ground within half a step of it is unknown
 // instead. Every occluded cell keeps shadow within one cell.
 TEST(Locus, GroundJustBeyondACrestsLastSampleIsUnknownNotShadow) {
-  auto m = scanner(0.0);
-  m.mount_height = 1.5;
-  m.tilt = 10 * kDeg;
   const GridSpec grid = GridSpec::covering({-3, 6, 3, 18}, 0.05);
-  const RidgeTerrain ridge(12, 0.6, 1.5);
-  const sim::RayCaster caster(ridge);
-  const auto pose = m.mountPose({0, 0, 0});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto [image, truth] = scanFromLowMast(RidgeTerrain(12, 0.6, 1.5), grid);
   LocusOptions last_sample_on;
   last_sample_on.undecided_before_shadow = 0;
   LocusOptions near_half_only;
@@ -510,15 +518,8 @@ TEST(Locus, GroundJustBeyondACrestsLastSampleIsUnknownNotShadow) {
 // there. Shadow in the far half of that stretch is unknown; none of it was
 // occluded, and every occluded cell keeps shadow within one cell.
 TEST(Locus, ShadowBehindACrestEndsBeforeTheFirstSampleBeyond) {
-  auto m = scanner(0.0);
-  m.mount_height = 1.5;
-  m.tilt = 10 * kDeg;
   const GridSpec grid = GridSpec::covering({-3, 6, 3, 18}, 0.05);
-  const RidgeTerrain ridge(10, 0.3, 1.0);
-  const sim::RayCaster caster(ridge);
-  const auto pose = m.mountPose({0, 0, 0});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto [image, truth] = scanFromLowMast(RidgeTerrain(10, 0.3, 1.0), grid);
   LocusOptions far_end_off;
   far_end_off.undecided_shadow_far_end = 0;
   const auto before = shadowMisses(buildLocusMap(image, grid, far_end_off), truth);
@@ -535,18 +536,11 @@ TEST(Locus, ShadowBehindACrestEndsBeforeTheFirstSampleBeyond) {
 // edge meets the ground, 10.3 * 1.5 / 1.2 = 12.875 m out, beyond where the
 // ray through the last sample would put it.
 TEST(Locus, ShadowBehindAFaceToppedBarReachesItsFarEnd) {
-  auto m = scanner(0.0);
-  m.mount_height = 1.5;
-  m.tilt = 10 * kDeg;
   sim::TerrainDescription d;
   d.extent = {-100, -100, 100, 100};
   d.features.push_back(sim::BoxObstacle{{0.0, 10.15, 0.0, 2.0, 0.15}, 0.3});
-  const sim::ProceduralTerrain ground(d);
-  const sim::RayCaster caster(ground);
-  const auto pose = m.mountPose({0, 0, 0});
-  const auto image = sim::simulateScan(caster, m, pose, 1);
   const GridSpec grid = GridSpec::covering({-1.5, 8, 1.5, 16}, 0.05);
-  const auto truth = sim::computeVisibility(caster, m, pose, grid);
+  const auto [image, truth] = scanFromLowMast(sim::ProceduralTerrain(d), grid);
   const auto after = shadowMisses(buildLocusMap(image, grid), truth);
   EXPECT_GT(after.occluded, 1000);
   EXPECT_EQ(after.occluded_missed, 0);
