@@ -200,6 +200,7 @@ class LocusSolver {
   LocusPoint pointAt(const Line& line, int row) const;
   RowSample sampleRow(const Line& line, int row) const;
   RowSample sampleRowAt(const Line& line, int row, double col) const;
+  void compareWithImage(RowSample& s) const;
   int startRow(const Line& line, double z) const;
   CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
                  bool& out_of_view) const;
@@ -455,16 +456,18 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   RowSample s;
   s.row = row;
   s.at = pointAt(line, row);
-  if (!s.at.on_image) return s;
-  // Interpolated between the two nearest columns rather than the paper's
-  // nearest column, so that the bracket agrees with the bilinear surface the
-  // binary search uses (else a root just past a scanline can fall outside
-  // the bracket and the search stops at its end).
-  const double range = imageRangeOnRow(row, s.at.col);
-  if (!std::isfinite(range)) return s;
-  s.delta = s.at.rho - range;
-  s.ok = true;
+  if (s.at.on_image) compareWithImage(s);
   return s;
+}
+
+// Delta at a sample on the image. The image's range is interpolated
+// between the two nearest columns rather than the paper's nearest column,
+// so that the bracket agrees with the bilinear surface the binary search
+// uses (else a root just past a scanline can fall outside the bracket and
+// the search stops at its end).
+[[gnu::always_inline]] inline void LocusSolver::compareWithImage(RowSample& s) const {
+  s.delta = s.at.rho - imageRangeOnRow(s.row, s.at.col);
+  s.ok = std::isfinite(s.delta);  // NaN without returns, or on a scanline parallel to the line
 }
 
 // sampleRow() where the column is known beforehand: no division and no
@@ -480,8 +483,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   s.at.on_image = p.y() * cos_phi + p.z() * sin_phi > 0 && col > -0.5 && col < last_col_;
   if (!s.at.on_image) return s;
   s.at.rho = p.norm();
-  s.delta = s.at.rho - imageRangeOnRow(row, col);
-  s.ok = std::isfinite(s.delta);  // NaN without returns, or on a scanline parallel to the line
+  compareWithImage(s);
   return s;
 }
 
