@@ -232,6 +232,11 @@ class LocusSolver {
   bool isUndecided(const Line& line, int quad_row, double col) const;
   double shadowFarEndFrom(const Jump& jump) const;
   double reachAt(int row, int col) const { return across_[std::size_t(row) * g_.cols + col]; }
+  // The horizontal distance from the sensor to the line, whose foot is the
+  // sensor's origin plus the turned a.
+  double reachOf(const Line& line) const {
+    return (world_to_sensor_.transpose() * line.a).head<2>().norm();
+  }
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
   }
@@ -563,9 +568,7 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   stop_t = s.at.t;
   const int c = std::clamp(int(s.at.col + 0.5), 0, g_.cols - 1);
   const double border = border_reach_[s.row == 0 ? 0 : 1][std::size_t(c)];
-  // The line's foot is the sensor's origin plus the turned a.
-  const double reach = (world_to_sensor_.transpose() * line.a).head<2>().norm();
-  const bool hidden = std::isnan(border) ? s.at.t > typical_height_ : reach < border;
+  const bool hidden = std::isnan(border) ? s.at.t > typical_height_ : reachOf(line) < border;
   return hidden ? CellState::kShadow : CellState::kUnknown;
 }
 
@@ -773,7 +776,7 @@ LocusSolver::Jump LocusSolver::jumpAt(int quad_row, double col) const {
 bool LocusSolver::isUndecided(const Line& line, int quad_row, double col) const {
   const Jump jump = jumpAt(quad_row, col);
   if (!jump.valid()) return false;
-  const double cell_reach = std::sqrt(line.a.squaredNorm() - origin_.z() * origin_.z());
+  const double cell_reach = reachOf(line);
   if (cell_reach - jump.near_reach < undecided_steps_ * jump.step) return true;
   return far_end_share_ > 0 && cell_reach > shadowFarEndFrom(jump);
 }
