@@ -777,7 +777,10 @@ bool LocusSolver::isUndecided(const Line& line, int quad_row, double col) const 
   const Jump jump = jumpAt(quad_row, col);
   if (!jump.valid()) return false;
   const double cell_reach = reachOf(line);
-  if (cell_reach - jump.near_reach < undecided_steps_ * jump.step) return true;
+  // Each rule only where it is on: the near one's test, at 0 steps, would
+  // still take cells nearer than the last sample.
+  if (undecided_steps_ > 0 && cell_reach - jump.near_reach < undecided_steps_ * jump.step)
+    return true;
   return far_end_share_ > 0 && cell_reach > shadowFarEndFrom(jump);
 }
 
