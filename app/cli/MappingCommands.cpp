@@ -279,6 +279,7 @@ nlohmann::json qualityJson(const mapping::RegistrationQuality& q) {
           {"partners", q.partners},
           {"height_agreement", finite(q.agreement)},
           {"rms_m", q.rms_m},
+          {"self_rms_m", q.self_rms_m},
           {"weakest_axis", q.weakest_axis},
           {"weakest_sigma_m", finite(q.weakest_sigma_m)},
           {"sigma_m", {finite(q.sigma[0]), finite(q.sigma[1]), finite(q.sigma[2])}},

@@ -42,6 +42,8 @@ void validate(const RegistrationOptions& o) {
   require(o.min_overlap >= 0 && o.min_overlap <= o.trusted_overlap && o.trusted_overlap <= 1,
           "overlaps must satisfy 0 <= min_overlap <= trusted_overlap <= 1");
   require(o.max_rms_m > 0, "max_rms_m must be positive");
+  require(o.max_residual_ratio == 0 || o.max_residual_ratio >= 1,
+          "max_residual_ratio must be 0 (off) or at least 1");
   require(o.sigma_floor_m > 0, "sigma_floor_m must be positive");
   require(o.agreement_tolerance_m > 0, "agreement_tolerance_m must be positive");
   require(o.abandon_agreement >= 0 && o.abandon_agreement <= o.min_agreement,
@@ -468,20 +470,18 @@ std::string axisName(const Eigen::Vector3d& v, const char* const names[3]) {
   return std::string(names[3]) + " " + text;
 }
 
-// Partners, residual and the conditioning of the point-to-plane problem at
-// the fit; `frame` turns the working frame's directions into the target's.
-RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
-                          const std::vector<Surfel>& target, const PointIndex& index,
-                          const Fit& fit, const Eigen::Isometry3d& frame, double agreement,
-                          const RegistrationOptions& o, int threads) {
-  RegistrationQuality q;
-  q.agreement = agreement;
+// Point-to-plane residuals of `points`, moved by `motion`, each against the
+// nearest surfel within the partner limits, with the normal equations of
+// their conditioning.
+NormalEquations planeResiduals(const std::vector<Eigen::Vector3d>& points,
+                               const Eigen::Isometry3d& motion, const std::vector<Surfel>& surfels,
+                               const PointIndex& index, const RegistrationOptions& o, int threads) {
   const float limit2 = float(o.partner_distance_m * o.partner_distance_m);
-  const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
-    const Eigen::Vector3d p = fit.transform * source[i];
+  return accumulate(points.size(), threads, [&](std::size_t i, NormalEquations& sum) {
+    const Eigen::Vector3d p = motion * points[i];
     const auto hit = index.nearest(p.cast<float>(), limit2);
     if (hit.index < 0) return;
-    const Surfel& t = target[std::size_t(hit.index)];
+    const Surfel& t = surfels[std::size_t(hit.index)];
     const double d = t.normal.dot(p - t.p);
     if (std::abs(d) > o.partner_plane_m) return;
     Vector6d j;
@@ -491,6 +491,23 @@ RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
     sum.radius2 += p.squaredNorm();
     ++sum.pairs;
   });
+}
+
+double rms(const NormalEquations& eq) {
+  return eq.pairs ? std::sqrt(eq.residual2 / double(eq.pairs)) : 0.0;
+}
+
+// Partners, residual and the conditioning of the point-to-plane problem at
+// the fit; `frame` turns the working frame's directions into the target's.
+// `self_rms` is the source's residual against its own surface.
+RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
+                          const std::vector<Surfel>& target, const PointIndex& index,
+                          const Fit& fit, const Eigen::Isometry3d& frame, double agreement,
+                          double self_rms, const RegistrationOptions& o, int threads) {
+  RegistrationQuality q;
+  q.agreement = agreement;
+  q.self_rms_m = self_rms;
+  const auto eq = planeResiduals(source, fit.transform, target, index, o, threads);
   q.partners = int(eq.pairs);
   q.overlap = source.empty() ? 0.0 : double(eq.pairs) / double(source.size());
   char why[200];
@@ -512,7 +529,20 @@ RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
     q.reason = why;
     return q;
   }
-  q.rms_m = std::sqrt(eq.residual2 / double(eq.pairs));
+  q.rms_m = rms(eq);
+  // Ground the source shares with the target fits the target's surface
+  // about as well as the source's own; another place's gentle ground can
+  // agree in height within the tolerance and still not.
+  const double own = std::max(self_rms, o.sigma_floor_m);
+  if (o.max_residual_ratio > 0 && q.rms_m > o.max_residual_ratio * own) {
+    q.verdict = Verdict::kNoOverlap;
+    std::snprintf(why, sizeof why,
+                  "the source lies %.1f mm off the target's surface and %.1f mm off its own; "
+                  "at most %.1f times %.1f mm for the same ground",
+                  1000 * q.rms_m, 1000 * self_rms, o.max_residual_ratio, 1000 * own);
+    q.reason = why;
+    return q;
+  }
   const double radius = std::max(std::sqrt(eq.radius2 / double(eq.pairs)), 1e-3);
   // Rotations scaled to the motion of a point at the clouds' radius.
   Vector6d scale;
@@ -663,8 +693,13 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   const auto as_scanned = scanners.source && o.ray_neighbours > 0
                               ? voxelMeans(source, frame.inverse() * initial, o.voxel_m)
                               : source_points;
-  r.quality =
-      judge(sparser(as_scanned, o.source_voxel_m), fixed, index, fit, frame, agreement, o, threads);
+  const auto probe = sparser(as_scanned, o.source_voxel_m);
+  double self_rms = 0.0;
+  if (o.max_residual_ratio > 0) {
+    const PointIndex own(asFloat(positions(placed, Eigen::Isometry3d::Identity())));
+    self_rms = rms(planeResiduals(probe, Eigen::Isometry3d::Identity(), placed, own, o, threads));
+  }
+  r.quality = judge(probe, fixed, index, fit, frame, agreement, self_rms, o, threads);
   r.rms_m = r.quality.rms_m;
   return r;
 }

@@ -60,6 +60,10 @@ struct RegistrationOptions {
   // more after the first.)
   double abandon_agreement = 0.65;
   double max_rms_m = 0.01;  // point-to-plane, over partners; above: doubtful
+  // The source's residual against the target's surface above this many
+  // times its residual against its own (at least sigma_floor_m): the
+  // clouds are of different ground (no overlap). 0 turns it off.
+  double max_residual_ratio = 2.0;
   // Standard deviation of the fit along its weakest direction (rotations as
   // the motion of a point at the clouds' radius), from the point-to-plane
   // normal equations over the partners and their residual.
@@ -83,6 +87,9 @@ struct RegistrationQuality {
   int partners = 0;
   double agreement = 0.0;  // share of the source's cells within 5 cm of the target's heights
   double rms_m = 0.0;      // point-to-plane over the partners
+  // The source's points against its own surface, as rms_m against the
+  // target's: what the noise alone leaves (0 with max_residual_ratio off).
+  double self_rms_m = 0.0;
   // The fit's weakest direction and its standard deviation [m; rotations
   // at the clouds' radius], as a motion in the target's frame.
   double weakest_sigma_m = 0.0;

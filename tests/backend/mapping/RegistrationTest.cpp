@@ -117,6 +117,38 @@ TEST(Registration, FlatGroundIsFlaggedDegenerateInThePlane) {
   EXPECT_LT(r.quality.weakest_rotation.cross(normal).norm(), 0.05);
 }
 
+// Two places of gentle swells, 2.4 cm high, never 5 cm apart in
+// height: the height agreement (5 cm) cannot tell them apart, the residual
+// can. Each cloud, scanned from 2 m up, fits its own surface to a
+// millimetre and the other's to about a centimetre: refused, with both
+// residuals given. The same swells seen twice are not.
+double swells(double x, double y) { return 0.024 * std::sin(2.3 * x) * std::cos(2.9 * y); }
+double otherSwells(double x, double y) { return 0.024 * std::cos(3.1 * x + 1) * std::sin(2.1 * y); }
+
+TEST(Registration, GentleGroundOfAnotherPlaceIsRefusedByItsResidual) {
+  const Eigen::Isometry3d guess(Eigen::Translation3d(0.02, -0.01, 0.0));
+  const ScannerOrigins scanners{Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0, 0, 2)};
+  auto run = [&](double (*source)(double, double), const RegistrationOptions& options = {}) {
+    return registerClouds(sampled(source, 0.025), sampled(swells, 0.0), guess, options, scanners)
+        .quality;
+  };
+  const auto other = run(otherSwells);
+  EXPECT_EQ(other.verdict, Verdict::kNoOverlap) << other.reason;
+  EXPECT_GE(other.agreement, RegistrationOptions{}.min_agreement);
+  EXPECT_GT(other.rms_m, 0.008);
+  EXPECT_GT(other.self_rms_m, 0.0);
+  EXPECT_LT(other.self_rms_m, 0.003);
+  EXPECT_NE(other.reason.find("off its own"), std::string::npos) << other.reason;
+
+  const auto same = run(swells);
+  EXPECT_NE(same.verdict, Verdict::kNoOverlap) << same.reason;
+  EXPECT_LT(same.rms_m, 2 * same.self_rms_m + 0.001);
+  // Off, the swells of another place are not refused.
+  RegistrationOptions off;
+  off.max_residual_ratio = 0;
+  EXPECT_NE(run(otherSwells, off).verdict, Verdict::kNoOverlap);
+}
+
 // A long straight ditch holds everything but the shift along it.
 TEST(Registration, ALongTrenchIsFlaggedDegenerateAlongItsAxis) {
   auto ditch = [](double, double y) { return std::abs(y) < 0.6 ? std::abs(y) - 0.6 : 0.0; };
