@@ -126,8 +126,10 @@ struct CellResult {
   // The fractional image row where the line met the surface; NaN where the
   // walk found no crossing.
   double row = NAN;
-  // Shadow, but within the undecided stretch beyond the occluder's last
-  // sample (LocusOptions::undecided_before_shadow).
+  // Shadow, but within a stretch where nothing tells whether it is: beyond
+  // the occluder's last sample (LocusOptions::undecided_before_shadow), at
+  // a crest's shadow's far end, or in a border pixel's footprint (walk()).
+  // Unknown once the shadow's sides are marked.
   bool undecided = false;
 };
 
@@ -202,8 +204,9 @@ class LocusSolver {
   RowSample sampleRowAt(const Line& line, int row, double col) const;
   void compareWithImage(RowSample& s) const;
   int startRow(const Line& line, double z) const;
-  CellState walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
-                 bool& out_of_view) const;
+  // Fills `end` (z where the search stopped, out of view, undecided) unless
+  // the line met the surface, in the bracket.
+  CellState walk(const Line& line, int down, int row, Bracket& bracket, CellResult& end) const;
   Line lineThrough(double x, double y) const {
     return {world_to_sensor_ * (Eigen::Vector3d(x, y, 0.0) - origin_), b_};
   }
@@ -287,6 +290,11 @@ class LocusSolver {
   // distance from the sensor at which it meets the ground [m], NaN where the
   // whole border has no ground (findBorderGround()).
   std::array<std::vector<double>, 2> border_reach_;
+  // Per image column, for the first and the last scanline, the stretch
+  // beyond the border's own ground: from its reach (as in border_reach_)
+  // to one scanline step beyond, over the pixel's footprint, which the
+  // scan saw but did not sample. NaN without own ground.
+  std::array<std::vector<double>, 2> border_own_from_, border_own_to_;
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
@@ -402,14 +410,12 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   const double turn = line.a.y() * line.b.z() - line.a.z() * line.b.y();
   const int down = (turn * g_.phi_step < 0) ? 1 : -1;
   Bracket bracket;
-  double stop_t = NAN;
-  bool out_of_view = false;
   const int start = std::isnan(row_hint) ? startRow(line, z_guess) : int(row_hint + 0.5);
-  const auto found = walk(line, down, start, bracket, stop_t, out_of_view);
+  CellResult end;
+  const auto found = walk(line, down, start, bracket, end);
   if (found != CellState::kKnown) {
-    CellResult r{found, stop_t};
-    r.out_of_view = out_of_view;
-    return r;
+    end.state = found;
+    return end;
   }
   auto result = refine(line, bracket);
   if (!hasHeight(result.state) || !result.noise.ambiguous) return result;
@@ -533,10 +539,10 @@ int LocusSolver::startRow(const Line& line, double z) const {
 // Scanline bracketing: from the start row, walk down the line while it is
 // in front of the surface, or up while it is behind, until the sign of
 // Delta changes between adjacent scanlines.
-CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket, double& stop_t,
-                            bool& out_of_view) const {
+CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracket,
+                            CellResult& end) const {
   RowSample s = sampleRow(line, row);
-  out_of_view = !s.at.on_image;
+  end.out_of_view = !s.at.on_image;
   if (!s.ok) {
     // Started where a ray met nothing: on from the first return below,
     // which, if the line is hidden there, walks up to that ray again.
@@ -548,7 +554,7 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   for (int next = row + step; next >= 0 && next < g_.rows; next += step) {
     const RowSample n = sampleRow(line, next);
     if (!n.ok)
-      return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(n, s.at.t, stop_t)
+      return n.at.on_image && s.delta > 0 ? hiddenBelowFreeSpace(n, s.at.t, end.z)
                                           : CellState::kUnknown;
     if ((n.delta < 0) != (s.delta < 0)) {
       bracket.upper = s.delta < 0 ? s : n;
@@ -565,11 +571,24 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   // Without ground at the border, the ground is taken at the image's
   // typical height, which would have been in view below the line's exit.
   if (s.delta < 0) return CellState::kUnknown;
-  stop_t = s.at.t;
+  end.z = s.at.t;
   const int c = std::clamp(int(s.at.col + 0.5), 0, g_.cols - 1);
-  const double border = border_reach_[s.row == 0 ? 0 : 1][std::size_t(c)];
-  const bool hidden = std::isnan(border) ? s.at.t > typical_height_ : reachOf(line) < border;
-  return hidden ? CellState::kShadow : CellState::kUnknown;
+  const int b = s.row == 0 ? 0 : 1;
+  const double border = border_reach_[b][std::size_t(c)];
+  if (std::isnan(border))
+    return s.at.t > typical_height_ ? CellState::kShadow : CellState::kUnknown;
+  const double reach = reachOf(line);
+  if (!(reach < border)) return CellState::kUnknown;
+  // Beyond the border pixels' own ground, up to where the next scanline
+  // would meet it, which an obstacle's reach taken from beside them calls
+  // hidden, the ground may as well go on in view: undecided. Between the two
+  // columns around the line, whose ground the image interpolates.
+  const int c0 = std::clamp(int(std::floor(s.at.col)), 0, g_.cols - 2);
+  const auto& from = border_own_from_[b];
+  const auto& to = border_own_to_[b];
+  end.undecided = reach >= std::min(from[std::size_t(c0)], from[std::size_t(c0) + 1]) &&
+                  reach < std::max(to[std::size_t(c0)], to[std::size_t(c0) + 1]);
+  return CellState::kShadow;
 }
 
 // Where each border scanline meets the ground, column by column: the
@@ -589,6 +608,10 @@ void LocusSolver::findBorderGround() {
   for (int b = 0; b < 2; ++b) {
     auto& reach = border_reach_[std::size_t(b)];
     reach.assign(std::size_t(cols), NAN);
+    auto& own_from = border_own_from_[std::size_t(b)];
+    auto& own_to = border_own_to_[std::size_t(b)];
+    own_from.assign(std::size_t(cols), NAN);
+    own_to.assign(std::size_t(cols), NAN);
     if (g_.rows < 3 || cols < 2) continue;
     const int border = b == 0 ? 0 : g_.rows - 1, in = b == 0 ? 2 : g_.rows - 3;
     for (int c = 0; c < cols; ++c) {
@@ -601,8 +624,11 @@ void LocusSolver::findBorderGround() {
       if (!ground) continue;
       const auto& p = world_[std::size_t(border) * cols + c];
       const double rho = image_.at(border, c);
-      reach[std::size_t(c)] =
-          (p.head<2>() - origin_.head<2>().cast<float>()).norm() - 2 * k * rho * rho;
+      const double noise = 2 * k * rho * rho;
+      const double across = (p.head<2>() - origin_.head<2>().cast<float>()).norm();
+      reach[std::size_t(c)] = own_from[std::size_t(c)] = across - noise;
+      const double step = across - reachAt(border == 0 ? 1 : border - 1, c);
+      own_to[std::size_t(c)] = across + std::max(step, 0.0) + noise;
     }
     // The surfaces: runs of columns [first, last] with continuous ranges.
     auto continuous = [&](int c) {  // columns c and c + 1

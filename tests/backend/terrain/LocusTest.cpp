@@ -181,6 +181,29 @@ TEST(Locus, GroundBehindATallObstacleAtTheFarEdgeIsShadow) {
             100);
 }
 
+// Flat ground whose left part drops 1 m into a wide pit 14 m off: there
+// the top scanline meets the pit's floor, 22 m off, and on the right the
+// ground, 18.7 m off, nearer than the pit beside it, as a tall obstacle's
+// face would be. The ground just beyond its last samples, within the top
+// pixels' footprint, is in view: not shadow, since nothing tells an
+// obstacle's top from ground going on there (unknown).
+TEST(Locus, GroundInTheFarEdgesFootprintIsNotShadow) {
+  sim::TerrainDescription d;
+  d.extent = {-100, -100, 100, 100};
+  d.features.push_back(sim::Trench{{-9.0, 24.0, 0.0, 5.0, 10.0}, 1.0});
+  const auto [map, truth] =
+      scanAndMap(sim::ProceduralTerrain(d), GridSpec::covering({-2, 17, 8, 20}, 0.05));
+  int in_view = 0;
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c)
+      if (truth.state(r, c) == std::uint8_t(sim::Visibility::kVisible) &&
+          map.grid().cellCenter(r, c).y() > 18.5) {
+        ++in_view;
+        EXPECT_NE(map.state(r, c), CellState::kShadow) << map.grid().cellCenter(r, c).transpose();
+      }
+  EXPECT_GT(in_view, 100);
+}
+
 // A 1 m box 8 m in front of a scanner 1.5 m up whose rays reach 20 m: the
 // rays just over its top would meet the ground 24 m off and return
 // nothing. The lines through the ground behind the box are hidden up to
