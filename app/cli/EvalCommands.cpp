@@ -315,6 +315,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"shadow_tolerance", "within_1_cell: one cell, 8-neighbourhood"},
       {"truth", "Embree on the terrain triangulated at 2 cm; scans by the project's ray caster"},
       {"min_grazing_deg", a.locus.edges.min_grazing_deg},
+      {"step_ratio", a.locus.edges.step_ratio},
       {"edge_noise_sigmas", a.locus.edges.noise_sigmas},
       {"edge_weak_noise_sigmas", a.locus.edges.weak_noise_sigmas},
       {"grazing_oblique", a.locus.edges.mark_grazing},
