@@ -696,7 +696,7 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   const auto probe = sparser(as_scanned, o.source_voxel_m);
   double self_rms = 0.0;
   if (o.max_residual_ratio > 0) {
-    const PointIndex own(asFloat(positions(placed, Eigen::Isometry3d::Identity())));
+    const PointIndex own(asFloat(source_points));  // the surfels' centres
     self_rms = rms(planeResiduals(probe, Eigen::Isometry3d::Identity(), placed, own, o, threads));
   }
   r.quality = judge(probe, fixed, index, fit, frame, agreement, self_rms, o, threads);

@@ -622,10 +622,9 @@ void LocusSolver::findBorderGround() {
       for (int qr = std::min(border, in); ground && qr < std::max(border, in); ++qr)
         ground = !edges_.quadIsEdge(qr, qc) && !isSteepFace(qr, qc);
       if (!ground) continue;
-      const auto& p = world_[std::size_t(border) * cols + c];
       const double rho = image_.at(border, c);
       const double noise = 2 * k * rho * rho;
-      const double across = (p.head<2>() - origin_.head<2>().cast<float>()).norm();
+      const double across = reachAt(border, c);
       reach[std::size_t(c)] = own_from[std::size_t(c)] = across - noise;
       const double step = across - reachAt(border == 0 ? 1 : border - 1, c);
       own_to[std::size_t(c)] = across + std::max(step, 0.0) + noise;
