@@ -230,6 +230,21 @@ class LocusSolver {
   }
   void tabulateSteepFaces();
   void tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge);
+  // The least-squares plane z = f(x, y) of the 3 x 3 pixels of 2 x 2
+  // quads: whether they lie on it within their noise, each pixel's offset
+  // from it, and the sigma of such an offset [m].
+  struct BlockPlane {
+    bool planar = false;
+    std::array<float, 9> offset{};
+    double offset_noise = 0;
+  };
+  BlockPlane fitBlockPlane(int r, int c) const;
+  // z00 - z01 - z10 + z11 of quad (r, c)'s pixels: small against their
+  // height range on a plane, as large on a bump.
+  double quadTwist(int r, int c) const {
+    const std::size_t p = std::size_t(r) * g_.cols + c, q = p + g_.cols;
+    return world_[p].z() - world_[p + 1].z() - world_[q].z() + world_[q + 1].z();
+  }
   struct Jump;
   Jump jumpAt(int quad_row, double col) const;
   bool isUndecided(const Line& line, int quad_row, double col) const;
@@ -952,8 +967,11 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, Bracket& br, double u, 
   double curvature = 0.0;
   if (ok[0]) curvature = std::abs(range[0] - 2 * range[1] + range[2]);
   if (ok[3]) curvature = std::max(curvature, std::abs(range[1] - 2 * range[2] + range[3]));
+  // Less the pixels' noise, which the noise term counts already: a second
+  // difference's noise variance is 6 pixel variances.
+  const double curvature_variance = std::max(curvature * curvature - 6 * noise * noise, 0.0);
   const double noise_sigma = noiseOfRange(br.upper.row, br.lower.row, u, col);
-  const double range_sigma = std::sqrt(noise_sigma * noise_sigma + curvature * curvature / 64);
+  const double range_sigma = std::sqrt(noise_sigma * noise_sigma + curvature_variance / 64);
   result.height_per_range = std::abs((br.lower.at.t - br.upper.at.t) / slope);
   result.sigma = result.height_per_range * range_sigma;
   result.significant = !insignificant;
@@ -1003,7 +1021,13 @@ void LocusSolver::tabulateSamplingSigma(const std::vector<std::uint8_t>& near_ed
   }
   sampling_sigma_.assign(std::size_t(quad_rows) * quad_cols, 0.0);
   const double k = image_.range_sigma_k, sensor_z = origin_.z();
-  for (int r = 0; r < quad_rows; ++r)
+  // A plane is fitted per 2 x 2 quads (quad rows and columns r0, r0 + 1
+  // for even r0), to their 3 x 3 pixels, when one of them first needs it.
+  std::vector<BlockPlane> planes(std::size_t(quad_cols + 1) / 2);
+  std::vector<int> fitted_for(planes.size(), -1);
+  for (int r = 0; r < quad_rows; ++r) {
+    const int r0 = r - r % 2;
+    const bool inner_row = r0 + 2 < g_.rows;
     for (int c = 0; c < quad_cols; ++c) {
       const std::size_t quad = std::size_t(r) * quad_cols + c;
       double low = lo[std::size_t(r) * cols + c], high = hi[std::size_t(r) * cols + c];
@@ -1018,8 +1042,62 @@ void LocusSolver::tabulateSamplingSigma(const std::vector<std::uint8_t>& near_ed
       // (about 2 sigma for four samples; k rho^2 times the ray's vertical
       // part each) is already in the noise term and is taken off.
       const double height_noise = k * image_.at(r, c) * std::abs(sensor_z - low);
-      sampling_sigma_[quad] = std::max(high - low - 2 * height_noise, 0.0) / std::sqrt(12.0);
+      double excess = std::max(high - low - 2 * height_noise, 0.0);
+      // On a plane the interpolation is exact and the quad's height range is
+      // the plane's rise, not an error: where the pixels around it lie on a
+      // plane within their noise, the range about that plane counts. Only
+      // where the range is large enough to matter (beyond three height
+      // sigmas: a term of a third of the noise, less in quadrature).
+      const int c0 = c - c % 2, group = c0 / 2;
+      if (inner_row && c0 + 2 < cols && !near_edge[quad] && excess > height_noise &&
+          std::abs(quadTwist(r, c)) < 0.5 * (high - low)) {
+        if (fitted_for[group] != r0) planes[group] = fitBlockPlane(r0, c0), fitted_for[group] = r0;
+        const BlockPlane& plane = planes[group];
+        if (plane.planar) {
+          const int i = 3 * (r - r0) + c - c0;
+          const float* d = &plane.offset[std::size_t(i)];
+          const float least = std::min(std::min(d[0], d[1]), std::min(d[3], d[4]));
+          const float most = std::max(std::max(d[0], d[1]), std::max(d[3], d[4]));
+          excess = std::min(excess, std::max(most - least - 2 * plane.offset_noise, 0.0));
+        }
+      }
+      sampling_sigma_[quad] = excess / std::sqrt(12.0);
     }
+  }
+}
+
+// The plane of the 3 x 3 pixels from (r, c): planar when their rms offset
+// from it is at most three sigmas of a pixel's offset and a millimetre
+// (and every one has a return). A pixel's offset moves by the range noise
+// times how far a step along its ray leaves the plane. In floats about the
+// middle pixel: the block spans at most a few metres.
+LocusSolver::BlockPlane LocusSolver::fitBlockPlane(int r, int c) const {
+  BlockPlane plane;
+  const Eigen::Vector3f o = world_[std::size_t(r + 1) * g_.cols + c + 1];
+  std::array<Eigen::Vector3f, 9> p;
+  float x = 0, y = 0, z = 0, xx = 0, xy = 0, yy = 0, xz = 0, yz = 0, zz = 0;
+  for (int i = 0; i < 9; ++i) {
+    const Eigen::Vector3f& q = p[std::size_t(i)] =
+        world_[std::size_t(r + i / 3) * g_.cols + c + i % 3] - o;
+    x += q.x(), y += q.y(), z += q.z();
+    xx += q.x() * q.x(), xy += q.x() * q.y(), yy += q.y() * q.y();
+    xz += q.x() * q.z(), yz += q.y() * q.z(), zz += q.z() * q.z();
+  }
+  const float mx = x / 9, my = y / 9, mz = z / 9;
+  xx -= x * mx, xy -= x * my, yy -= y * my, xz -= x * mz, yz -= y * mz, zz -= z * mz;
+  const float det = xx * yy - xy * xy;
+  if (!(det > 1e-9f)) return plane;
+  const float a = (xz * yy - yz * xy) / det, b = (yz * xx - xz * xy) / det;
+  const Eigen::Vector3d ray = o.cast<double>() - origin_;
+  plane.offset_noise =
+      image_.range_sigma_k * ray.norm() * std::abs(ray.z() - a * ray.x() - b * ray.y());
+  const double max_rms = 3 * plane.offset_noise + 0.001;
+  plane.planar = zz - a * xz - b * yz <= 9 * max_rms * max_rms;
+  for (int i = 0; i < 9; ++i) {
+    const Eigen::Vector3f& q = p[std::size_t(i)];
+    plane.offset[std::size_t(i)] = q.z() - mz - a * (q.x() - mx) - b * (q.y() - my);
+  }
+  return plane;
 }
 
 // Follows the line up and down from the bracket over the scanlines where
