@@ -44,7 +44,8 @@ nlohmann::json stepJson(const walk::WalkStep& s) {
                       {"dead_reckoning_error_across_m", s.dead_reckoning_error_across_m},
                       {"heading_error_rad", s.heading_error_rad},
                       {"dead_reckoning_heading_error_rad", s.dead_reckoning_heading_error_rad},
-                      {"event", s.event}};
+                      {"event", s.event},
+                      {"reason", s.reason}};
   if (s.leg >= 0) j["foothold"] = {s.foothold.x(), s.foothold.y(), s.foothold.z()};
   return j;
 }

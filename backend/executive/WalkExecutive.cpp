@@ -440,6 +440,7 @@ void WalkExecutive::planAndPropose(double now_s) {
   step_.leg = proposal->plan.leg;
   step_.foothold = proposal->plan.foothold;
   step_.body_u = proposal->plan.body_u;
+  step_.reason = proposal->plan.reason;
   approval_task_ = tasks_.add(step_task_, TaskKind::kApproval, "approval", plan_task_);
   tasks_.start(approval_task_, now_s);
   phase_ = Phase::kAwaitingDecision;

@@ -92,6 +92,7 @@ struct StepRecord {
   // until that scan is mapped (the walk closes with one for its last step).
   std::optional<gait::BodyPose> registered;
   std::string event;  // what went differently from the plan, if anything
+  std::string reason;  // the plan's account of its body move: what stopped it
 };
 
 // Wall time the ground spent on a walk's perception and planning: the work

@@ -128,7 +128,8 @@ void score(WalkResult& r, const executive::WalkExecutive& e, const TruthTally& t
                .body_u = s.body_u,
                .plan_ms = s.plan_ms,
                .planned_ahead = s.planned_ahead,
-               .event = s.event};
+               .event = s.event,
+               .reason = s.reason};
     if (k < truth.after_body_moves.size()) {
       const gait::BodyPose& t = truth.after_body_moves[k];
       const gait::BodyPose& estimate = s.registered.value_or(s.estimated);

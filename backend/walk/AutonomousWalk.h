@@ -70,6 +70,7 @@ struct WalkStep {
   double heading_error_rad = 0.0;
   double dead_reckoning_heading_error_rad = 0.0;
   std::string event;
+  std::string reason;  // what stopped the body move (gait::StepPlan::reason)
 };
 
 // What `ambler-cli walk` prints (docs/gait.md).

@@ -501,7 +501,11 @@ TEST(Executive, AWalkClosesWithAScanThatPlacesItsLastStep) {
   EXPECT_EQ(closing->status, TaskStatus::kDone);
   const auto& log = c.executive.stepLog();
   ASSERT_EQ(log.size(), 3u);
-  for (const auto& step : log) ASSERT_TRUE(step.registered.has_value());
+  for (const auto& step : log) {
+    ASSERT_TRUE(step.registered.has_value());
+    // Each step says what stopped its body move, as its plan did.
+    EXPECT_EQ(step.reason.rfind("body ", 0), 0u) << step.reason;
+  }
   const gait::BodyPose placed = c.executive.correction().apply(log.back().reported);
   EXPECT_NEAR((log.back().registered->xy - placed.xy).norm(), 0.0, 1e-12);
   EXPECT_NEAR(log.back().registered->heading_rad, placed.heading_rad, 1e-12);
