@@ -55,12 +55,14 @@ InterlockCheck stability(const gait::StepPlan& plan, const gait::Stance& from,
   if (plan.leg >= 0) {
     consider(gait::marginWithout(from, m, plan.leg), "while the leg is lifted");
     consider(placed.csp_margin_m, "after the foot is placed");
-  } else {
-    consider(gait::marginWithout(from, m, -1), "before the body move");
   }
   consider(moved.csp_margin_m, "after the body move");
-  const std::string detail =
+  std::string detail =
       "least CSP margin " + metres(lowest) + " " + when + " (limit " + metres(margin) + ")";
+  // A body move alone changes nothing before it: a stance the rover reports
+  // below the margin (after a slip) is where it stands either way, and
+  // moving the body is what takes it back in.
+  if (plan.leg < 0) detail += "; " + metres(gait::marginWithout(from, m, -1)) + " before it";
   // Without a leg move nothing is placed: the body move is what takes a
   // stance the rover reports just beyond a limit (a slipped foot) back in.
   if (plan.leg >= 0 && !placed.ok() && placed.violated != gait::Constraint::kConservativeSupport)

@@ -162,6 +162,38 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
+// The rover reports a stance whose centre of gravity is 1 cm inside the
+// CSP margin (where a slip may leave it): no leg may lift, and a body move
+// back out of the margin passes the stability interlock; one that goes on
+// into it does not.
+TEST(Executive, ABodyMoveMayTakeTheCentreOfGravityBackOutOfTheMargin) {
+  Console c;
+  c.executive.start(c.now);
+  c.untilDecisionNeeded();
+  const gait::GaitContext ctx = ground();
+  const double limit = ctx.gait.csp_margin_m;
+  gait::Stance from = c.gate.pending()->from;
+  const Eigen::Vector2d start = from.body.xy;
+  for (int i = 0; i < 2000 && gait::marginWithout(from, ctx.model, -1) > limit - 0.01; ++i)
+    from.body.xy.x() += 0.001;
+  ASSERT_NEAR(gait::marginWithout(from, ctx.model, -1), limit - 0.01, 0.002);
+
+  const auto bodyMoveTo = [&](const Eigen::Vector2d& xy) {
+    gait::StepPlan plan = c.gate.pending()->plan;
+    plan.leg = -1;
+    plan.after_leg = plan.after = from;
+    plan.after.body.xy = xy;
+    plan.body_path = {from.body, plan.after.body};
+    return makeProposal(1, from, plan, c.executive.map(), ctx).interlocks.checks[3];
+  };
+  const auto back = bodyMoveTo(start);
+  ASSERT_EQ(back.name, "stability");
+  EXPECT_TRUE(back.passed) << back.detail;
+  const auto on = bodyMoveTo(from.body.xy + Eigen::Vector2d(0.01, 0.0));
+  EXPECT_FALSE(on.passed) << on.detail;
+  EXPECT_NE(on.detail.find("after the body move"), std::string::npos) << on.detail;
+}
+
 // A foot reported 6 cm beyond its leg's reach: a body move toward it, which
 // leaves it 4 cm beyond, passes, one away from it does not. With any one
 // foot 15 cm beyond, whatever the planner proposes passes too (mostly body
