@@ -50,6 +50,22 @@ double stackSpan(const Stance& stance, const RoverModel& m, int leg, const Eigen
   return hi - lo;
 }
 
+// How far `xy` (world), as leg's foot, would lead the other stack's
+// foremost foot, each along its own stack's motion.
+double leadOverOtherStack(const Stance& stance, const Heading& heading, const RoverModel& m,
+                          int leg, const Eigen::Vector2d& xy) {
+  const auto along = [&](int i, const Eigen::Vector2d& world) {
+    const Eigen::Vector2d shaft = m.shaftOf(i);
+    return (stance.body.toBody(world) - shaft).dot(heading.motionAt(shaft));
+  };
+  double other_front = -INFINITY;
+  for (int i = 0; i < kLegCount; ++i)
+    if (stance.supporting[std::size_t(i)] &&
+        m.shaft_of_leg[std::size_t(i)] != m.shaft_of_leg[std::size_t(leg)])
+      other_front = std::max(other_front, along(i, stance.feet[std::size_t(i)].head<2>()));
+  return along(leg, xy) - other_front;
+}
+
 double headingAngle(const BodyPose& body, const Eigen::Vector2d& body_direction) {
   const Eigen::Vector2d w = body.rotation() * body_direction;
   return std::atan2(w.y(), w.x());
@@ -221,6 +237,9 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     // Widened searches step over obstacles, so they may stretch the stack.
     const double span = ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0);
     if (stackSpan(placed, m, leg, d) > span) continue;
+    if (leadOverOtherStack(stance, heading, m, leg, xy) >
+        ctx.gait.max_stack_lead_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0))
+      continue;
     if (!checkStance(placed, stance, m, ctx.gait.csp_margin_m).ok()) continue;
     Stance raised = placed;
     raised.body.link_z = linkHeightFor(placed, m);
@@ -278,6 +297,8 @@ void validate(const GaitOptions& g) {
           "gait.pattern_weight must be in [0, 100]");
   require(g.max_stack_span_pitches >= 2 && g.max_stack_span_pitches <= 10,
           "gait.max_stack_span_pitches must be in [2, 10]");
+  require(g.max_stack_lead_pitches >= 0.5 && g.max_stack_lead_pitches <= 10,
+          "gait.max_stack_lead_pitches must be in [0.5, 10]");
   require(g.body_step_m > 0 && g.body_step_m <= 0.5, "gait.body_step_m must be in (0, 0.5]");
   require(g.max_candidates_per_leg >= 1, "gait.max_candidates_per_leg must be >= 1");
 }

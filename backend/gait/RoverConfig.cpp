@@ -81,6 +81,7 @@ void readGait(const io::JsonFields& f, GaitOptions& g) {
                   {"tread_tolerance_m", &g.tread_tolerance_m},
                   {"pattern_weight", &g.pattern_weight},
                   {"max_stack_span_pitches", &g.max_stack_span_pitches},
+                  {"max_stack_lead_pitches", &g.max_stack_lead_pitches},
                   {"body_step_m", &g.body_step_m}});
   if (f.has("max_body_turn_deg")) g.max_body_turn_rad = f.number("max_body_turn_deg") * M_PI / 180;
   if (f.has("max_candidates_per_leg"))

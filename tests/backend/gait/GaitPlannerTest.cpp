@@ -156,6 +156,39 @@ TEST(GaitPlanner, CirculatesAllSixLegsOnFlatGround) {
   EXPECT_NEAR(s.body.xy.x(), 0.0, 0.05);
 }
 
+// The circulating gait staggers the two stacks by half a pitch. A foot set
+// down far ahead of the other stack's foremost foot leaves that stack
+// trailing, with its rear foot at the end of its reach and no leg able to
+// lift (a traverse tuning walk ended so). Here the right stack stands 0.65 m
+// back: unchecked, the left stack's next foot would lead it by 1.15 pitches.
+TEST(GaitPlanner, SetsNoFootMoreThanAPitchAheadOfTheOtherStack) {
+  const GaitContext ctx = context();
+  const auto map = flatGround();
+  Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);
+  double right_front = -INFINITY;
+  for (int leg = 0; leg < kLegCount; ++leg)
+    if (ctx.model.shaft_of_leg[std::size_t(leg)] == 1) {
+      s.feet[std::size_t(leg)].y() -= 0.65;
+      right_front = std::max(right_front, s.feet[std::size_t(leg)].y());
+    }
+  ASSERT_TRUE(checkStance(s, ctx.model, ctx.gait.csp_margin_m).ok());
+  // The most any left foot on offer leads the right stack by (straight
+  // ahead, body and world axes alike), over the 1x search.
+  const auto leftLead = [&](const GaitContext& g) {
+    double lead = -INFINITY;
+    for (const auto& c : planStep(s, Heading{}, map, g).candidates)
+      if (g.model.shaft_of_leg[std::size_t(c.leg)] == 0 && c.search_widen == 1.0)
+        lead = std::max(lead, c.foothold.y() - right_front);
+    return lead;
+  };
+  GaitContext unchecked = ctx;
+  unchecked.gait.max_stack_lead_pitches = 10;
+  EXPECT_GT(leftLead(unchecked), 1.1 * ctx.gait.pitch_m);
+  const double lead = leftLead(ctx);
+  EXPECT_LE(lead, ctx.gait.max_stack_lead_pitches * ctx.gait.pitch_m);
+  EXPECT_GT(lead, 0.5 * ctx.gait.pitch_m);  // still a step forward
+}
+
 TEST(GaitPlanner, FollowsAnArcOfGivenRadius) {
   const GaitContext ctx = context();
   const auto map = flatGround();
