@@ -227,29 +227,50 @@ DiskFootprint DiskFootprint::forDiameter(double diameter_m, double resolution_m)
   return d;
 }
 
+namespace {
+
+// The map's cells whose centres lie in a finite region, clipped to the map:
+// columns c0..c1, rows r0..r1 (none when c1 < c0 or r1 < r0).
+struct CentreSpan {
+  int c0, c1, r0, r1;
+  bool empty() const { return c1 < c0 || r1 < r0; }
+};
+
+CentreSpan centresIn(const GridSpec& map_grid, const Box2& region) {
+  const double res = map_grid.resolution;
+  return {
+      std::max(0, int(std::ceil((region.x_min - map_grid.origin_x) / res - 0.5))),
+      std::min(map_grid.cols - 1, int(std::floor((region.x_max - map_grid.origin_x) / res - 0.5))),
+      std::max(0, int(std::ceil((region.y_min - map_grid.origin_y) / res - 0.5))),
+      std::min(map_grid.rows - 1, int(std::floor((region.y_max - map_grid.origin_y) / res - 0.5)))};
+}
+
+bool isFiniteBox(const Box2& region) {
+  return std::isfinite(region.x_min) && std::isfinite(region.x_max) &&
+         std::isfinite(region.y_min) && std::isfinite(region.y_max) &&
+         region.x_min <= region.x_max && region.y_min <= region.y_max;
+}
+
+}  // namespace
+
+bool holdsCellCentre(const GridSpec& map_grid, const Box2& region) {
+  return isFiniteBox(region) && !centresIn(map_grid, region).empty();
+}
+
 CandidateCells candidateCells(const GridSpec& map_grid, const Box2& region) {
-  if (!(std::isfinite(region.x_min) && std::isfinite(region.x_max) && std::isfinite(region.y_min) &&
-        std::isfinite(region.y_max)) ||
-      region.x_max < region.x_min || region.y_max < region.y_min)
+  if (!isFiniteBox(region))
     throw std::invalid_argument("footfall region must be a finite box with min <= max");
   const double res = map_grid.resolution;
-  // Cells whose centres lie in the region, clipped to the map.
-  const int c0 = std::max(0, int(std::ceil((region.x_min - map_grid.origin_x) / res - 0.5)));
-  const int c1 =
-      std::min(map_grid.cols - 1, int(std::floor((region.x_max - map_grid.origin_x) / res - 0.5)));
-  const int r0 = std::max(0, int(std::ceil((region.y_min - map_grid.origin_y) / res - 0.5)));
-  const int r1 =
-      std::min(map_grid.rows - 1, int(std::floor((region.y_max - map_grid.origin_y) / res - 0.5)));
-  if (c1 < c0 || r1 < r0)
-    throw std::invalid_argument("footfall region holds no cell centre of the map");
+  const CentreSpan span = centresIn(map_grid, region);
+  if (span.empty()) throw std::invalid_argument("footfall region holds no cell centre of the map");
   CandidateCells cells;
-  cells.first_row = r0;
-  cells.first_col = c0;
-  cells.grid.origin_x = map_grid.origin_x + c0 * res;
-  cells.grid.origin_y = map_grid.origin_y + r0 * res;
+  cells.first_row = span.r0;
+  cells.first_col = span.c0;
+  cells.grid.origin_x = map_grid.origin_x + span.c0 * res;
+  cells.grid.origin_y = map_grid.origin_y + span.r0 * res;
   cells.grid.resolution = res;
-  cells.grid.rows = r1 - r0 + 1;
-  cells.grid.cols = c1 - c0 + 1;
+  cells.grid.rows = span.r1 - span.r0 + 1;
+  cells.grid.cols = span.c1 - span.c0 + 1;
   return cells;
 }
 

@@ -31,6 +31,10 @@ struct CandidateCells {
 // map or is not a finite, non-empty box.
 CandidateCells candidateCells(const GridSpec& map_grid, const Box2& region);
 
+// Whether candidateCells() finds any: the region is a finite box holding a
+// cell centre of the map.
+bool holdsCellCentre(const GridSpec& map_grid, const Box2& region);
+
 // What every criterion needs about the terrain under the foot at each
 // candidate centre, from row-wise prefix sums and running extremes (one pass
 // over the region instead of one per footprint). Heights are relative to

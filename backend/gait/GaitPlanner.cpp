@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/Region.h"
+#include "footfall/Footprint.h"
 #include "terrain/Queries.h"
 
 namespace ambler::gait {
@@ -166,11 +167,10 @@ std::optional<footfall::CostMaps> costMapsAround(
   const double h = ctx.gait.search_half_m * widen;
   const Box2 region{centre.x() - h, centre.y() - h, centre.x() + h, centre.y() + h};
   const Box2 bounds = map.grid().bounds();
-  if (region.x_max <= bounds.x_min || region.x_min >= bounds.x_max ||
-      region.y_max <= bounds.y_min || region.y_min >= bounds.y_max)
-    return std::nullopt;
   const Box2 clipped{std::max(region.x_min, bounds.x_min), std::max(region.y_min, bounds.y_min),
                      std::min(region.x_max, bounds.x_max), std::min(region.y_max, bounds.y_max)};
+  // Off the map, or on it by less than half a cell.
+  if (!footfall::holdsCellCentre(map.grid(), clipped)) return std::nullopt;
   footfall::CostMapOptions fo = ctx.footfall;
   fo.limits.reach_max_m = std::min(fo.limits.reach_max_m, m.extension_max_m);
   fo.limits.reach_min_m = std::max(fo.limits.reach_min_m, m.extension_min_m);
@@ -237,8 +237,10 @@ std::optional<LegCandidate> candidateFor(const Stance& stance, const Heading& he
     // Widened searches step over obstacles, so they may stretch the stack.
     const double span = ctx.gait.max_stack_span_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0);
     if (stackSpan(placed, m, leg, d) > span) continue;
-    if (leadOverOtherStack(stance, heading, m, leg, xy) >
-        ctx.gait.max_stack_lead_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0))
+    // Not in point turns, where the stacks move in opposite directions.
+    if (!heading.isPointTurn() &&
+        leadOverOtherStack(stance, heading, m, leg, xy) >
+            ctx.gait.max_stack_lead_pitches * ctx.gait.pitch_m + 0.4 * (widen - 1.0))
       continue;
     if (!checkStance(placed, stance, m, ctx.gait.csp_margin_m).ok()) continue;
     Stance raised = placed;

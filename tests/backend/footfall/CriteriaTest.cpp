@@ -10,6 +10,7 @@
 #include <random>
 
 #include "footfall/Criteria.h"
+#include "footfall/Footprint.h"
 
 namespace ambler::footfall {
 namespace {
@@ -379,6 +380,19 @@ TEST(Criteria, RejectsBadOptionsAndRegions) {
   EXPECT_THROW(evaluateFootfalls(map, {0, 0, 1, 1}, Criterion::kMaxMin, o), std::invalid_argument);
   EXPECT_THROW(evaluateFootfalls(map, {5, 5, 6, 6}, Criterion::kMaxMin), std::invalid_argument);
   EXPECT_THROW(evaluateFootfalls(map, {0, 0, NAN, 1}, Criterion::kMaxMin), std::invalid_argument);
+}
+
+// What a caller checks before asking for candidates: a region on the map
+// by less than half a cell holds no cell centre, and candidateCells()
+// refuses it.
+TEST(Criteria, ARegionHoldsACellCentreOrHasNoCandidates) {
+  const GridSpec g = GridSpec::covering({0, 0, 1, 1}, 0.1);  // centres 0.05 ... 0.95
+  EXPECT_TRUE(holdsCellCentre(g, {0.0, 0.0, 0.05, 0.05}));
+  EXPECT_FALSE(holdsCellCentre(g, {0.96, 0.0, 1.0, 1.0}));
+  EXPECT_THROW(candidateCells(g, {0.96, 0.0, 1.0, 1.0}), std::invalid_argument);
+  EXPECT_FALSE(holdsCellCentre(g, {2.0, 2.0, 3.0, 3.0}));
+  EXPECT_FALSE(holdsCellCentre(g, {0.3, 0.2, 0.1, 0.4}));
+  EXPECT_FALSE(holdsCellCentre(g, {0.0, 0.0, NAN, 1.0}));
 }
 
 }  // namespace

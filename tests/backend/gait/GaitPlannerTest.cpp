@@ -357,6 +357,30 @@ TEST(GaitPlanner, WalksOnWhenASlipLeftTwoFeetWithinTheLegSeparation) {
   EXPECT_TRUE(checkStance(s, ctx.model, ctx.gait.csp_margin_m).ok());
 }
 
+// At the map's far edge a leg's search region may overlap the map by less
+// than half a cell and so hold no cell centre: that leg has no foothold
+// there, and planning goes on (it threw, which stopped `walk` with an
+// error, and would have ended ambler-gs's session thread). The rover
+// creeps up to the edge a centimetre at a time, so that the left rear
+// leg's 1 m search square, from 1.25 m + the creep, starts on every side
+// of the last cell centres (1.25 m) and of the map's edge (1.3 m).
+TEST(GaitPlanner, NoFootholdWhereTheSearchJustMissesTheMapsCells) {
+  const GaitContext ctx = context();
+  terrain::ElevationMap map(GridSpec::covering({-12, -12, 12, 1.3}, 0.1));
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c) map.setKnown(r, c, 0.0, 0.01);
+  for (int cm = 0; cm <= 10; ++cm) {
+    const Stance s = nominalStance({{0, 0.01 * cm}, 0.0, 2.4}, ctx.model, ctx.gait);
+    for (int leg = 0; leg < kLegCount; ++leg) {
+      std::optional<footfall::CostMaps> maps;
+      EXPECT_NO_THROW(maps = legCostMaps(s, Heading{}, map, ctx, std::nullopt, leg))
+          << "creep " << cm << " cm, leg " << leg;
+      if (maps) EXPECT_LE(maps->composite.grid.bounds().y_max, 1.3 + 1e-9);
+    }
+    EXPECT_NO_THROW(planStep(s, Heading{}, map, ctx)) << "creep " << cm << " cm";
+  }
+}
+
 TEST(GaitPlanner, NeedsKnownGround) {
   const GaitContext ctx = context();
   terrain::ElevationMap unknown(GridSpec::covering({-12, -12, 12, 30}, 0.1));
