@@ -169,6 +169,16 @@ void WalkExecutive::closeWalk(double now_s) {
 
 void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   const auto messages = link_.receive(wait);
+  try {
+    advance(messages, now_s);
+  } catch (const std::exception& e) {
+    // What was under way is dropped with the suspension: the rover stops,
+    // and a resume scans and plans afresh from where it stands.
+    suspend(now_s, std::string("ground software fault: ") + e.what(), true);
+  }
+}
+
+void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double now_s) {
   if (link_lost_ && !messages.empty()) {
     note(now_s, "link back: the rover is heard again");
     link_lost_.reset();

@@ -130,7 +130,9 @@ class WalkExecutive {
   // rover's whole state again.
   void start(double now_s, bool end_hold = false);
   // Reads what arrived (waiting up to `wait`), reacts, and sends what the
-  // gate released. Call it often.
+  // gate released. Call it often. A fault of the ground's own work
+  // (planning, mapping, matching: an exception) holds the rover and
+  // suspends the walk with the fault named; it does not escape.
   void poll(double now_s, std::chrono::milliseconds wait);
   // The operator moved the pending step's foothold: the step is planned
   // again with it and its interlocks checked; it stays pending.
@@ -176,6 +178,7 @@ class WalkExecutive {
   const std::string& roverHolding() const { return rover_holding_; }
 
  private:
+  void advance(const std::vector<link::Telemetry>& messages, double now_s);
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);

@@ -162,6 +162,26 @@ TEST(Executive, ABodyMoveMayTakeAStanceBackWithinTheLegsReach) {
   EXPECT_TRUE(stability.passed) << stability.detail;
 }
 
+// A fault in the ground's own work (here the footfall module refusing its
+// options once a leg may lift, after the first body move) holds the rover
+// and suspends the walk, naming the fault, instead of leaving poll() as an
+// exception that would end ambler-gs's session thread.
+TEST(Executive, AGroundSoftwareFaultHoldsTheRoverAndSuspendsTheWalk) {
+  gait::GaitContext ctx = ground();
+  ctx.footfall.foot.sigma_margin = NAN;
+  Console c(steps(3), ctx);
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  EXPECT_NO_THROW(c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; }));
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_NE(c.executive.suspendedBecause().find("Hold sent"), std::string::npos)
+      << c.executive.suspendedBecause();
+  for (const char* named : {"ground software fault: ", "sigma_margin"})
+    EXPECT_NE(c.executive.suspendedBecause().find(named), std::string::npos)
+        << c.executive.suspendedBecause();
+  EXPECT_FALSE(c.gate.pending());
+}
+
 // The rover reports a stance whose centre of gravity is 1 cm inside the
 // CSP margin (where a slip may leave it): no leg may lift, and a body move
 // back out of the margin passes the stability interlock; one that goes on
