@@ -13,6 +13,25 @@ namespace ambler::gait {
 
 namespace {
 
+// How far `world` lies from leg's shaft along the motion there (body frame).
+double alongMotion(const Stance& stance, const Heading& heading, const RoverModel& model, int leg,
+                   const Eigen::Vector2d& world) {
+  const Eigen::Vector2d shaft = model.shaftOf(leg);
+  return (stance.body.toBody(world) - shaft).dot(heading.motionAt(shaft));
+}
+
+// The foremost foot of `shaft`'s stack along its motion, leaving `except`
+// out (-INFINITY when no other foot is on that shaft).
+double stackFront(const Stance& stance, const Heading& heading, const RoverModel& model, int shaft,
+                  int except) {
+  double front = -INFINITY;
+  for (int i = 0; i < kLegCount; ++i)
+    if (i != except && model.shaft_of_leg[std::size_t(i)] == shaft)
+      front = std::max(
+          front, alongMotion(stance, heading, model, i, stance.feet[std::size_t(i)].head<2>()));
+  return front;
+}
+
 // Where the circulating gait wants leg's foot (world): one pitch
 // beyond the foremost foot of its stack along the motion at its shaft, at
 // the tread, pulled in to stay 0.1 m inside the reach.
@@ -22,13 +41,8 @@ Eigen::Vector2d idealFoothold(const Stance& stance, const Heading& heading, cons
   const Eigen::Vector2d d = heading.motionAt(shaft);
   Eigen::Vector2d out(d.y(), -d.x());
   if (out.dot(shaft) < 0) out = -out;
-  double front = -INFINITY;
-  for (int i = 0; i < kLegCount; ++i)
-    if (i != leg && model.shaft_of_leg[std::size_t(i)] == model.shaft_of_leg[std::size_t(leg)])
-      front = std::max(
-          front,
-          (stance.body.toBody(Eigen::Vector2d(stance.feet[std::size_t(i)].head<2>())) - shaft)
-              .dot(d));
+  const double front =
+      stackFront(stance, heading, model, model.shaft_of_leg[std::size_t(leg)], leg);
   const double lateral = gait.tread_m - std::abs(shaft.x());
   const double reach = model.extension_max_m - 0.1;
   const double along_max = std::sqrt(std::max(reach * reach - lateral * lateral, 0.0));
@@ -55,16 +69,8 @@ double stackSpan(const Stance& stance, const RoverModel& m, int leg, const Eigen
 // foremost foot, each along its own stack's motion.
 double leadOverOtherStack(const Stance& stance, const Heading& heading, const RoverModel& m,
                           int leg, const Eigen::Vector2d& xy) {
-  const auto along = [&](int i, const Eigen::Vector2d& world) {
-    const Eigen::Vector2d shaft = m.shaftOf(i);
-    return (stance.body.toBody(world) - shaft).dot(heading.motionAt(shaft));
-  };
-  double other_front = -INFINITY;
-  for (int i = 0; i < kLegCount; ++i)
-    if (stance.supporting[std::size_t(i)] &&
-        m.shaft_of_leg[std::size_t(i)] != m.shaft_of_leg[std::size_t(leg)])
-      other_front = std::max(other_front, along(i, stance.feet[std::size_t(i)].head<2>()));
-  return along(leg, xy) - other_front;
+  const int other = 1 - m.shaft_of_leg[std::size_t(leg)];
+  return alongMotion(stance, heading, m, leg, xy) - stackFront(stance, heading, m, other, -1);
 }
 
 double headingAngle(const BodyPose& body, const Eigen::Vector2d& body_direction) {

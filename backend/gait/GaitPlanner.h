@@ -23,8 +23,7 @@ struct GaitOptions {
   double tread_tolerance_m = 0.25;       // footholds at most this far across the ideal
   double pattern_weight = 0.5;           // composite cost added per metre from the ideal foothold
   double max_stack_span_pitches = 2.25;  // feet of one stack at most this many pitches apart
-  double max_stack_lead_pitches =
-      1.0;  // a foot set down at most this far ahead of the other stack's
+  double max_stack_lead_pitches = 1.0;   // a new foot at most this far ahead of the other stack
   double body_step_m = 0.02;             // sampling of body moves (radians for point turns)
   int max_candidates_per_leg = 60;       // cells tried, cheapest first, per leg
 };
