@@ -375,7 +375,9 @@ TEST(GaitPlanner, NoFootholdWhereTheSearchJustMissesTheMapsCells) {
       std::optional<footfall::CostMaps> maps;
       EXPECT_NO_THROW(maps = legCostMaps(s, Heading{}, map, ctx, std::nullopt, leg))
           << "creep " << cm << " cm, leg " << leg;
-      if (maps) EXPECT_LE(maps->composite.grid.bounds().y_max, 1.3 + 1e-9);
+      if (maps) {
+        EXPECT_LE(maps->composite.grid.bounds().y_max, 1.3 + 1e-9);
+      }
     }
     EXPECT_NO_THROW(planStep(s, Heading{}, map, ctx)) << "creep " << cm << " cm";
   }
