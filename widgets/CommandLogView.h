@@ -9,7 +9,7 @@
 
 namespace ambler::widgets {
 
-// The event and command table (issue 7): time (UTC), operator, command,
+// The event and command table: time (UTC), operator, command,
 // the rover's answer and the reason, one row per command or decision.
 // Refusals are red. In a replay, rows after the timeline's time are grey
 // and the last row before it is kept in view.

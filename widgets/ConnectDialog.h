@@ -23,7 +23,7 @@ struct ConnectChoice {
   QString log_file;      // log: the mission log
 };
 
-// The Connect dialog (issue 7): one choice at a time, its fields checked
+// The Connect dialog: one choice at a time, its fields checked
 // before OK is enabled, with the reason shown when it is not.
 class ConnectDialog : public QDialog {
   Q_OBJECT

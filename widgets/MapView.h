@@ -12,7 +12,7 @@ class QComboBox;
 
 namespace ambler::widgets {
 
-// The local terrain map seen from above (issue 7): one layer at a time
+// The local terrain map seen from above: one layer at a time
 // (elevation, sigma, known / oblique / unknown / shadow, and the proposed leg's
 // footfall criterion and composite cost over its search region) with its
 // colour bar and units, around the rover; on top, the rover's feet and

@@ -20,7 +20,7 @@ namespace ambler::widgets {
 
 class StriperView;
 
-// Rock sampling (issue 8, cmu-1990 sampling paper): draws the
+// Rock sampling (cmu-1990 sampling paper): draws the
 // light-striper's intensity image with its features (shadows blue, range
 // edges red, creases yellow) and the automatic seeds (cyan); a click inside
 // a rock asks for a fit, whose contour is shown growing (green), then the

@@ -12,7 +12,7 @@ class QTableWidget;
 
 namespace ambler::widgets {
 
-// The step waiting for the operator (issue 7): leg, foothold, body advance,
+// The step waiting for the operator: leg, foothold, body advance,
 // stability margin and every interlock with its figures, with Approve and
 // Reject and the auto-approve switch, which turns the panel's banner red
 // while it is on; above them what the walk is doing and, when it stopped,

@@ -21,7 +21,7 @@ class QTableWidget;
 
 namespace ambler::widgets {
 
-// The rover as it reports itself (issue 7): body pose, each leg's contact,
+// The rover as it reports itself: body pose, each leg's contact,
 // load and foot position, and plots over the mission: when perception,
 // planning, the operator and control were busy (cmu-1990 fig. 7), and the
 // height and load of each foot. Times on the plots are seconds from `t0`.

@@ -12,7 +12,7 @@ class QToolButton;
 
 namespace ambler::widgets {
 
-// The replay's timeline (issue 7): play / pause at a chosen speed, step to
+// The replay's timeline: play / pause at a chosen speed, step to
 // the previous or next mark (a scan, a decision, an answer), and a slider
 // to scrub. Times are seconds on the log's clock; the label shows them
 // from the start of the mission.

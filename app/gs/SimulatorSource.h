@@ -12,8 +12,8 @@
 namespace ambler::gs {
 
 // The built-in simulator as a source of scans for the GUI: simulates on a
-// worker thread and reports back on the GUI thread. (Issue 6 turns this
-// into one implementation of the Link interface.)
+// worker thread and reports back on the GUI thread: the Scan action's
+// single scans, apart from a walk's link.
 class SimulatorSource : public QObject {
   Q_OBJECT
 

@@ -1,7 +1,7 @@
 #pragma once
 
 // Every proposed move waits here for the operator: approve, edit the
-// foothold, or reject (issue 6). An explicit auto-approve mode releases
+// foothold, or reject. An explicit auto-approve mode releases
 // proposals without a person, but only those whose interlocks pass; a
 // proposal that fails them is never released, whoever approves it. Every
 // decision goes to the mission log with who, when and what.

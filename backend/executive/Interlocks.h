@@ -1,7 +1,7 @@
 #pragma once
 
 // The checks a step passes on the ground before any of its commands is
-// sent, whether an operator approved it or auto-approve is on (issue 6):
+// sent, whether an operator approved it or auto-approve is on:
 // joint limits, reach, the conservative support polygon with margin, and a
 // foothold on known ground.
 

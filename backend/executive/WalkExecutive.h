@@ -1,6 +1,6 @@
 #pragma once
 
-// The ground's side of a walk over any link (cmu-1990 TCA, issue 6): for
+// The ground's side of a walk over any link (cmu-1990 TCA): for
 // each step it asks for a scan, maps it, plans the step, puts the proposal
 // before the approval gate, sends the approved moves signed, and checks
 // what the rover reports. A NACK, an unanswered command, a centre of

@@ -23,8 +23,9 @@ namespace ambler::mapping {
 // A placement scores the variance of the height differences (up to one
 // common offset) over the scan's own height variance: flat ground fits a
 // flat scan anywhere, so a placement counts by how much of the scan's
-// relief it explains. FPFH with RANSAC was tried first and failed on the
-// 1 m model (docs/mapping.md).
+// relief it explains. Not FPFH with RANSAC: a 1 m model barely samples
+// the few features of mostly flat ground, and the descriptors of scan and
+// model disagree (docs/mapping.md).
 struct GlobalOptions {
   double cell_m = 1.0;        // the model's node spacing
   double yaw_step_deg = 2.0;  // headings tried

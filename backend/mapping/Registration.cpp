@@ -308,8 +308,9 @@ std::vector<Eigen::Vector3d> ontoNeighbourPlanes(const std::vector<Eigen::Vector
 // `neighbours` points, else as many nearest points) as a covariance: a
 // plane along its normal, as thin across as the floor and as wide along as
 // the neighbourhood's narrower spread (at least a voxel), so that pairs
-// pull across surfaces and slide along them (plane-to-plane GICP). The neighbourhood's measured
-// thickness was tried instead: on noisy scans it made the fit worse.
+// pull across surfaces and slide along them (plane-to-plane GICP). Not the
+// neighbourhood's measured thickness: on noisy scans that is noise, and
+// the fit follows it.
 std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
                             const RegistrationOptions& o, int threads) {
   const int k = o.neighbours;

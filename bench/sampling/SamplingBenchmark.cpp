@@ -1,4 +1,4 @@
-// Superquadric fits of 2,000 points (issue 8: <= 10 ms), and the other
+// Superquadric fits of 2,000 points (target <= 10 ms), and the other
 // stages of rock sampling on one simulated striper image.
 #include <benchmark/benchmark.h>
 

@@ -1,4 +1,4 @@
-// Widget tests of the ground station's workflows (issue 7) against the
+// Widget tests of the ground station's workflows against the
 // simulator in this process, through the real wiring (GroundStation): a
 // proposal reaches the panel with its interlocks, Approve moves the rover,
 // Reject sends nothing, a click on the map moves the foothold and the

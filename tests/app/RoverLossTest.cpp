@@ -1,5 +1,5 @@
-// The rover's process killed mid-walk under a console connected over DDS
-// (issue 28): the console keeps running, its status bar says the link is
+// The rover's process killed mid-walk under a console connected over DDS:
+// the console keeps running, its status bar says the link is
 // lost, the walk is suspended with no step waiting for approval, the outage
 // is in the table and the log, and the window is saved as a screenshot to
 // look at; the rover restarted, Resume plans afresh from a new scan.
@@ -148,7 +148,7 @@ class RoverLossTest : public QObject {
     ::waitpid(sim, nullptr, 0);
   }
 
-  // Two consoles on one rover (issue 30): the GUI walks, another console
+  // Two consoles on one rover: the GUI walks, another console
   // (ambler-cli drive --take-over) asks, the operator hands over from the
   // Rover menu, the other console walks a step, and the GUI asks back.
   void theOperatorHandsCommandAuthorityOverAndAsksForItBack() {

@@ -1,4 +1,4 @@
-// The console on the operator's screen (issue 28): run once per screen
+// The console on the operator's screen: run once per screen
 // (ctest starts it under its own Xvfb of that size, see tests/CMakeLists.txt).
 // The window opens inside the available screen, Approve, Reject and HOLD are
 // wholly visible with a step waiting, View > Reset layout brings a hidden

@@ -1,5 +1,5 @@
-// The whole chain over DDS on loopback, with ambler-sim in its own process
-// (issue 6 acceptance): the executive walks with scripted approvals and the
+// The whole chain over DDS on loopback, with ambler-sim in its own process:
+// the executive walks with scripted approvals and the
 // log holds every command and acknowledgement; a console killed mid-walk
 // loses no acknowledged command, and the simulator holds when it falls
 // silent. Each test process takes its own domain.

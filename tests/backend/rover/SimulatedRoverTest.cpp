@@ -76,7 +76,7 @@ TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
   EXPECT_EQ((rover.world().rover().truth().body.xy - before).norm(), 0.0);
 }
 
-// Issue 6's security test: unsigned, forged, tampered, replayed and
+// The link's security: unsigned, forged, tampered, replayed and
 // reordered commands are each refused, and nothing moves.
 TEST(SimulatedRover, ForgedReplayedAndReorderedCommandsMoveNothing) {
   SimulatedRover rover(simulator(), options());

@@ -1,5 +1,5 @@
 // The headless autonomous walk across the simulated obstacle course, by the
-// walk executive over the in-process link (issue 5's acceptance): 25 steps
+// walk executive over the in-process link: 25 steps
 // on seeds 1-5 with the default noise, scored against the simulator's truth.
 #include <gtest/gtest.h>
 
