@@ -23,21 +23,21 @@ struct LocusOptions {
   // Shadow cells closer to the occluder's last sample than this many of the
   // samples' steps before it are unknown instead: the edge may lie anywhere
   // up to the next step, and ground before it was seen, if at all, at the
-  // last samples' grazing angle (README, elevation maps). 0: off.
+  // last samples' grazing angle (docs/elevation-maps.md). 0: off.
   double undecided_before_shadow = 0.5;
   // Behind a crest the shadow ends somewhere between where the ray through
   // the occluder's last sample meets the ground beyond (extended back as a
   // line through its first two samples) and the first sample on it. Shadow
   // cells in this share of that stretch, nearest that sample, are unknown
-  // instead (README, elevation maps). 0: off.
+  // instead (docs/elevation-maps.md). 0: off.
   double undecided_shadow_far_end = 0.5;
   // An occluder is a crest, not a face, when the segment through its last
   // two samples lies within this angle of the ray through the last [deg]:
   // beyond a face's last sample the occluder may go on unseen.
   double crest_max_angle_deg = 60.0;
   // Known cells beside a shadow across the line of sight (its sides, where
-  // interpolation meets unseen ground) become oblique (README, elevation
-  // maps).
+  // interpolation meets unseen ground) become oblique
+  // (docs/elevation-maps.md).
   bool oblique_shadow_sides = true;
   // And so do the known cells one and two steps beyond a shadow along the
   // line of sight, where a hidden floor meets the far wall's interpolated

@@ -21,7 +21,7 @@ struct OccludingEdgeOptions {
   // the same kind continues it in a neighbouring pixel (hysteresis, as in
   // Canny's detector): an occluding edge runs along the image, noise does
   // not. Equal to noise_sigmas turns it off; 2 finds more of the terrain
-  // families' shadows for a little precision (README, elevation maps).
+  // families' shadows for a little precision (docs/elevation-maps.md).
   double weak_noise_sigmas = 2.0;
   // Quads with a pair steeper than min_grazing_deg, beyond a noise
   // allowance, that is no edge are grazing (quadIsGrazing), and the locus
@@ -34,7 +34,7 @@ struct OccludingEdgeOptions {
   // Hysteresis again: a pair beyond only this smaller allowance is grazing
   // when a neighbouring pair of the same kind along the image is grazing or
   // an edge, for ground seen obliquely runs along the image like an edge.
-  // At most grazing_noise_sigmas; equal turns it off (README, elevation maps).
+  // At most grazing_noise_sigmas; equal turns it off (docs/elevation-maps.md).
   double weak_grazing_noise_sigmas = 0.0;
   // Under heavy noise one pair cannot tell ground seen just beyond the
   // grazing bound from noise, and such ground stays known, though relief
@@ -42,7 +42,7 @@ struct OccludingEdgeOptions {
   // can: its noise falls as one over their number. Quads whose averaged
   // step is beyond the bound by more than the allowance (std. dev. of the
   // average) are grazing too. 0 turns it off; otherwise at least 2, an odd
-  // number counting as the even one below it (README, elevation maps).
+  // number counting as the even one below it (docs/elevation-maps.md).
   int grazing_baseline_rows = 16;
   double grazing_baseline_noise_sigmas = 2.0;
 };
