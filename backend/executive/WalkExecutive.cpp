@@ -71,6 +71,7 @@ void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
   endHold(now_s);
   early_contacts_ = 0;  // the operator asked for another try
+  steps_without_advance_ = 0;
   if (steps_done_ >= opt_.steps) {
     note(now_s, "resumed: the closing scan again");
     requestClosingScan(now_s);
@@ -446,6 +447,18 @@ void WalkExecutive::planAndPropose(double now_s) {
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
   }
+  if (proposal->plan.body_u < ctx_.gait.body_step_m &&
+      steps_without_advance_ + 1 >= opt_.max_steps_without_advance) {
+    const int n = steps_without_advance_;
+    const std::string why = "the body has not advanced in " + std::to_string(n) +
+                            (n == 1 ? " step" : " steps") +
+                            " and would not in the next: no foothold lets it move on";
+    // A scan held back for a plan ahead goes into the map all the same.
+    if (unmapped_) mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
+    tasks_.fail(plan_task_, now_s, why);
+    suspend(now_s, "no step to propose: " + why, false);
+    return;
+  }
   tasks_.finish(plan_task_, now_s);
   step_.leg = proposal->plan.leg;
   step_.foothold = proposal->plan.foothold;
@@ -643,6 +656,7 @@ void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {
 
 void WalkExecutive::finishStep(double now_s) {
   early_contacts_ = 0;
+  steps_without_advance_ = step_.body_u < ctx_.gait.body_step_m ? steps_without_advance_ + 1 : 0;
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;
   step_.reported = report_.stance(ctx_.model)->body;

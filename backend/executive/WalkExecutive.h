@@ -50,6 +50,13 @@ struct ExecutiveOptions {
   // the walk suspends: the map misses what the foot meets, and planning
   // again from the same map meets it again.
   int max_early_contacts = 3;
+  // The walk suspends rather than propose a step that would make this many
+  // in a row that do not advance the body along the heading (a foot
+  // re-placed, a body shift): the legs find no footholds that let the body
+  // move on, and the planner would go on shuffling them (a point turn whose
+  // trailing stack needs ground behind the rover that the scanner has not
+  // seen). Six: every leg could have moved once.
+  int max_steps_without_advance = 6;
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
   // Register each scan against the traverse map and correct the rover's
@@ -223,6 +230,7 @@ class WalkExecutive {
   Phase phase_ = Phase::kIdle;
   int steps_done_ = 0, planned_ahead_ = 0;
   int early_contacts_ = 0;  // in a row, since the last step done
+  int steps_without_advance_ = 0;  // in a row, since the last resume
   // The next step, planned during this one from the stance it predicts.
   std::optional<gait::StepPlan> ahead_;
   gait::Stance ahead_from_;

@@ -451,6 +451,41 @@ TEST(Executive, EarlyContactsInARowSuspendTheWalk) {
   EXPECT_EQ(c.link.count("LegMove"), 6);
 }
 
+// A point turn soon needs footholds behind the rover that the scanner has
+// not seen, and the planner then re-places feet or shifts the body with
+// no advance. With a limit of two such steps in a row, the walk suspends
+// on the second such proposal instead of sending it, saying why; no two
+// steps in a row went out without the body advancing; and resuming starts
+// the count anew.
+TEST(Executive, StepsThatNeverAdvanceTheBodySuspendTheWalk) {
+  ExecutiveOptions o = steps(40);
+  o.heading.radius_m = 0.0;  // turn left in place
+  o.max_steps_without_advance = 2;
+  Console c(o, ground(), withoutSlips());
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  const auto stopped = [&] {
+    return c.executive.phase() == Phase::kSuspended || c.executive.phase() == Phase::kDone;
+  };
+  for (int i = 0; i < 20 && !stopped(); ++i) c.pollUntil(stopped);
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_NE(c.executive.suspendedBecause().find("the body has not advanced in 1 step and"),
+            std::string::npos)
+      << c.executive.suspendedBecause();
+  const auto& log = c.executive.stepLog();
+  ASSERT_FALSE(log.empty());
+  const double still = ground().gait.body_step_m;
+  EXPECT_LT(log.back().body_u, still);
+  for (std::size_t i = 1; i < log.size(); ++i)
+    EXPECT_FALSE(log[i - 1].body_u < still && log[i].body_u < still)
+        << "steps " << i << ", " << i + 1;
+
+  const int done = c.executive.stepsDone();
+  c.executive.resume(c.now);
+  c.pollUntil([&] { return c.executive.stepsDone() > done || stopped(); });
+  EXPECT_EQ(c.executive.stepsDone(), done + 1);
+}
+
 // Feet set down 8 cm off their footholds stop short of them (early
 // contacts) on ground the scans also see: the map fuses the scan's heights
 // there, and still holds every felt sole's ground at least as high.
