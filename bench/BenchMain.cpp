@@ -6,6 +6,7 @@
 
 int main(int argc, char** argv) {
   ambler::keepFreedMemoryForReuse();
+  ambler::adviseHugePagesForTheHeap();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

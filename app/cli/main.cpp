@@ -9,6 +9,7 @@
 
 int main(int argc, char** argv) {
   ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
+  ambler::adviseHugePagesForTheHeap();
   CLI::App app{
       "Ambler ground station: batch tool (simulation, mapping, footfalls, evaluation, file "
       "inspection, mission logs, a headless console)"};

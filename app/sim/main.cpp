@@ -116,6 +116,7 @@ void run(const Args& a) {
 
 int main(int argc, char** argv) {
   ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
+  ambler::adviseHugePagesForTheHeap();
   CLI::App app{"Ambler simulator served over DDS (loopback; see docs/formats.md)"};
   app.set_version_flag("--version", std::string("ambler-sim ") + AMBLER_VERSION);
   Args a;

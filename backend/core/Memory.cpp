@@ -34,7 +34,8 @@ void reserveHugePageHeap(std::size_t bytes) {
 void keepFreedMemoryForReuse() {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest on 64-bit
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
-  reserveHugePageHeap(std::size_t(256) << 20);
 }
+
+void adviseHugePagesForTheHeap() { reserveHugePageHeap(std::size_t(256) << 20); }
 
 }  // namespace ambler

@@ -35,6 +35,7 @@ TEST(Memory, HeapBlocksAfterTheCallLieInHugePageAdvisedMemory) {
   if (!std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"))
     GTEST_SKIP() << "this kernel has no transparent huge pages";
   ambler::keepFreedMemoryForReuse();
+  ambler::adviseHugePagesForTheHeap();
   // 16 MiB: below the mmap threshold the call sets (32 MiB), so from the
   // heap; its middle lies past any unaligned start of the advised range.
   constexpr std::size_t kBytes = std::size_t(16) << 20;
