@@ -31,6 +31,7 @@
 #include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
+#include "widgets/WalkCommandBar.h"
 
 namespace ambler::widgets {
 
@@ -40,7 +41,8 @@ MainWindow::MainWindow(QWidget* parent)
       terrain_view_(new TerrainView),
       seed_box_(new QSpinBox),
       scan_action_(new QAction(tr("Take scan"), this)),
-      walk_action_(new QAction(tr("Walk 5 steps"), this)),
+      walk_command_(new WalkCommandBar),
+      walk_action_(new QAction(tr("Walk"), this)),
       hold_action_(new QAction(tr("HOLD"), this)),
       approval_(new StepApprovalPanel),
       map_view_(new MapView),
@@ -77,10 +79,14 @@ MainWindow::MainWindow(QWidget* parent)
   scan_action_->setToolTip(tr("Acquire a new range image (F5)"));
   toolbar->addAction(scan_action_);
   connect(scan_action_, &QAction::triggered, this, [this] { emit scanRequested(seed()); });
+  toolbar->addSeparator();
+  toolbar->addWidget(walk_command_);
   walk_action_->setToolTip(
-      tr("Walk the rover five steps; each waits for your approval unless auto-approve is on"));
+      tr("Walk the rover these steps along this path; each waits for your "
+         "approval unless auto-approve is on"));
   toolbar->addAction(walk_action_);
-  connect(walk_action_, &QAction::triggered, this, &MainWindow::walkRequested);
+  connect(walk_action_, &QAction::triggered, this,
+          [this] { emit walkRequested(walk_command_->command()); });
   // Red, at the operator's hand on the toolbar and on Esc: a signed Hold
   // stops the rover whatever the walk is doing.
   hold_action_->setShortcut(Qt::Key_Escape);
@@ -227,6 +233,7 @@ void MainWindow::setReplay(const QString& what) {
   timeline_bar_->setVisible(replaying_);
   approval_->setEnabled(what.isEmpty());
   walk_action_->setEnabled(what.isEmpty());
+  walk_command_->setEnabled(what.isEmpty());
   hold_action_->setEnabled(what.isEmpty());
   scan_action_->setEnabled(what.isEmpty());
   seed_box_->setEnabled(what.isEmpty());

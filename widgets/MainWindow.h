@@ -4,6 +4,7 @@
 
 #include "core/Refusal.h"
 #include "widgets/ScanDisplay.h"
+#include "widgets/WalkCommandBar.h"
 
 class QLabel;
 class QProgressBar;
@@ -46,6 +47,7 @@ class MainWindow : public QMainWindow {
   TerrainView* terrainView() const { return terrain_view_; }
   QAction* scanAction() const { return scan_action_; }
   QAction* walkAction() const { return walk_action_; }
+  WalkCommandBar* walkCommandBar() const { return walk_command_; }
   QAction* holdAction() const { return hold_action_; }
   StepApprovalPanel* approvalPanel() const { return approval_; }
   MapView* mapView() const { return map_view_; }
@@ -86,7 +88,8 @@ class MainWindow : public QMainWindow {
 
  signals:
   void scanRequested(quint64 seed);
-  void walkRequested();
+  // The Walk action, with the steps and path beside it.
+  void walkRequested(const ambler::widgets::WalkCommand& command);
   // The operator pressed Hold: stop the rover now.
   void holdRequested();
   // Command authority: ask for it, or give it to the console asking.
@@ -105,6 +108,7 @@ class MainWindow : public QMainWindow {
   TerrainView* terrain_view_;
   QSpinBox* seed_box_;
   QAction* scan_action_;
+  WalkCommandBar* walk_command_;
   QAction* walk_action_;
   QAction* hold_action_;
   QAction* request_authority_ = nullptr;

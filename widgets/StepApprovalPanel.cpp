@@ -23,8 +23,9 @@ QString describeStep(const executive::StepProposal& p) {
                 .arg(plan.foothold.z(), 0, 'f', 2);
   else
     text += QObject::tr("Body move only, no leg lifted<br>");
-  text += QObject::tr("Body advance %1 m<br>Least stability margin %2 m")
-              .arg(plan.body_u, 0, 'f', 3)
+  text += QObject::tr("Body moves %1 m and turns %2°<br>Least stability margin %3 m")
+              .arg(p.body_move_m, 0, 'f', 3)
+              .arg(p.body_turn_deg, 0, 'f', 1)
               .arg(plan.min_csp_margin, 0, 'f', 3);
   return text;
 }

@@ -25,6 +25,23 @@ namespace ambler::gs {
 
 namespace {
 
+gait::Heading headingFor(const widgets::WalkCommand& c) {
+  using Path = widgets::WalkCommand::Path;
+  switch (c.path) {
+    case Path::kArcLeft:
+      return {c.radius_m};
+    case Path::kArcRight:
+      return {-c.radius_m};
+    case Path::kTurnLeft:
+      return {0.0, true};
+    case Path::kTurnRight:
+      return {0.0, false};
+    case Path::kStraight:
+      break;
+  }
+  return {};
+}
+
 bool sameStance(const std::optional<gait::Stance>& a, const std::optional<gait::Stance>& b) {
   if (!a || !b) return a.has_value() == b.has_value();
   return a->body.xy == b->body.xy && a->body.heading_rad == b->body.heading_rad &&
@@ -86,7 +103,8 @@ void GroundStation::wireWindow() {
     window_.setBusy({});
     window_.showError(message);
   });
-  connect(&window_, &widgets::MainWindow::walkRequested, this, [this] { startWalk(5); });
+  connect(&window_, &widgets::MainWindow::walkRequested, this,
+          [this](const widgets::WalkCommand& c) { startWalk(c.steps, headingFor(c)); });
   connect(&window_, &widgets::MainWindow::holdRequested, this, [this] {
     if (session_ && !timeline_) session_->hold();
   });
@@ -214,7 +232,7 @@ Refusal GroundStation::openSession() {
   return {};
 }
 
-void GroundStation::startWalk(int steps) {
+void GroundStation::startWalk(int steps, const gait::Heading& heading) {
   if (timeline_ && report(connectTo(choice_.source == widgets::ConnectChoice::Source::kLog
                                         ? widgets::ConnectChoice{}
                                         : choice_)))
@@ -227,7 +245,7 @@ void GroundStation::startWalk(int steps) {
   window_.mapView()->clear();
   window_.terrainView()->clear();
   mesh_.clearWalkScans();
-  session_->start(steps);
+  session_->start(steps, heading);
 }
 
 // Draws what changed since the state shown before: a view redrawn with

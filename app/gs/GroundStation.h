@@ -54,8 +54,9 @@ class GroundStation : public QObject {
   // Builds the log's timeline on a worker thread with a progress dialog;
   // replayReady() or an error follows.
   void openLog(const QString& path);
-  // Live: the station's walk of `steps` steps on the current session.
-  void startWalk(int steps);
+  // Live: the station's walk of `steps` steps along `heading` (straight
+  // ahead by default) on the current session.
+  void startWalk(int steps, const gait::Heading& heading = {});
   // The Rock sampling tab with a simulated light-striper image of the
   // sampling tray on course `seed` (SamplingController::trayShown follows).
   void showTray(quint64 seed);

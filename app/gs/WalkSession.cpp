@@ -96,9 +96,10 @@ class WalkWorker : public QObject {
 
   bool opened() const { return executive_ != nullptr; }
 
-  void start(int steps) {
+  void start(int steps, const gait::Heading& heading) {
     executive::ExecutiveOptions options;
     options.steps = steps;
+    options.heading = heading;
     options.rover_id = rover_.rover_id;
     makeExecutive(options);
     executive_->start(link::utcNowS(), true);
@@ -377,8 +378,8 @@ void WalkSession::ask(F f) {
   });
 }
 
-void WalkSession::start(int steps) {
-  ask([steps](WalkWorker& w) { w.start(steps); });
+void WalkSession::start(int steps, const gait::Heading& heading) {
+  ask([steps, heading](WalkWorker& w) { w.start(steps, heading); });
 }
 
 void WalkSession::approve(quint64 proposal) {

@@ -70,7 +70,7 @@ class WalkSession : public QObject {
 
   // Each of these is carried out on the session's thread; a refusal comes
   // back as refused().
-  void start(int steps);
+  void start(int steps, const gait::Heading& heading = {});
   void approve(quint64 proposal);
   void reject(quint64 proposal, const QString& reason);
   // The operator moved the pending step's foothold: replanned, interlocks

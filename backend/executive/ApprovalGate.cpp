@@ -2,6 +2,7 @@
 
 #include "gait/LegRecovery.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -14,6 +15,9 @@ StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::Step
   p.interlocks = checkInterlocks(p.plan, from, p.commands, map, context);
   if (p.plan.leg >= 0 && p.plan.recovery.found)
     p.foot_path = gait::footPath(context.model, from, p.plan.leg, p.plan.recovery, p.plan.foothold);
+  p.body_move_m = (p.plan.after.body.xy - from.body.xy).norm();
+  p.body_turn_deg =
+      std::remainder(p.plan.after.body.heading_rad - from.body.heading_rad, 2 * M_PI) * 180 / M_PI;
   return p;
 }
 
@@ -22,6 +26,8 @@ std::string describe(const StepProposal& p) {
       {"proposal", p.id},
       {"leg", p.plan.leg},
       {"body_advance", p.plan.body_u},
+      {"body_move_m", p.body_move_m},
+      {"body_turn_deg", p.body_turn_deg},
       {"min_csp_margin_m", p.plan.min_csp_margin},
       {"interlocks", p.interlocks.passed() ? "passed" : p.interlocks.firstFailure()}};
   if (p.plan.leg >= 0)
@@ -38,6 +44,8 @@ std::string proposalRecord(const StepProposal& p) {
       {"leg", p.plan.leg},
       {"foothold_m", {p.plan.foothold.x(), p.plan.foothold.y(), p.plan.foothold.z()}},
       {"body_advance", p.plan.body_u},
+      {"body_move_m", p.body_move_m},
+      {"body_turn_deg", p.body_turn_deg},
       {"min_csp_margin_m", p.plan.min_csp_margin},
       {"interlocks", checks}}
       .dump();
@@ -55,6 +63,10 @@ StepProposal proposalFromRecord(const std::string& json) {
   p.id = std::uint64_t(number("proposal"));
   p.plan.leg = int(number("leg"));
   p.plan.body_u = number("body_advance");
+  // Logs from before these two were kept hold straight walks only, whose
+  // body_u is the body's move in metres.
+  p.body_move_m = j.contains("body_move_m") ? number("body_move_m") : p.plan.body_u;
+  p.body_turn_deg = j.contains("body_turn_deg") ? number("body_turn_deg") : 0.0;
   p.plan.min_csp_margin = number("min_csp_margin_m");
   const auto& foot = j.value("foothold_m", nlohmann::json());
   if (!foot.is_array() || foot.size() != 3 || !foot[0].is_number() || !foot[1].is_number() ||

@@ -26,6 +26,11 @@ struct StepProposal {
   // The recovering leg's sole along its planned path, in the world (for
   // display; empty for a body move).
   std::vector<Eigen::Vector3d> foot_path;
+  // What the body does, from `from` to the plan's end: how far its centre
+  // moves [m] and how far it turns [deg, positive left]. The plan's body_u
+  // is metres or radians, as the walk's heading has it.
+  double body_move_m = 0.0;
+  double body_turn_deg = 0.0;
 };
 
 // The proposal for `plan` from `from`: its commands and their interlocks.

@@ -59,7 +59,9 @@ WalkExecutive::WalkExecutive(link::Link& link, link::CommandSigner& signer, Appr
 }
 
 void WalkExecutive::start(double now_s, bool end_hold) {
-  walk_task_ = tasks_.add(-1, TaskKind::kGoal, "walk " + std::to_string(opt_.steps) + " steps");
+  walk_task_ =
+      tasks_.add(-1, TaskKind::kGoal,
+                 "walk " + std::to_string(opt_.steps) + " steps " + gait::describe(opt_.heading));
   tasks_.start(walk_task_, now_s);
   // The rover answers a Resume with its whole state, which a console that
   // came after the rover's first report needs.

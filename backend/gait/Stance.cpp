@@ -1,6 +1,7 @@
 #include "gait/Stance.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace ambler::gait {
 
@@ -45,6 +46,16 @@ Eigen::Vector2d Heading::motionAt(const Eigen::Vector2d& body_point) const {
       Eigen::Vector2d(0.0, forwardPerUnit()) + w * Eigen::Vector2d(-body_point.y(), body_point.x());
   const double n = v.norm();
   return n > 1e-12 ? Eigen::Vector2d(v / n) : Eigen::Vector2d(0.0, 1.0);
+}
+
+std::string describe(const Heading& h) {
+  if (h.isPointTurn())
+    return h.point_turn_left ? "turning left in place" : "turning right in place";
+  if (!std::isfinite(h.radius_m)) return "straight";
+  char radius[32];
+  std::snprintf(radius, sizeof radius, "%.1f", std::abs(h.radius_m));
+  return std::string("on an arc of ") + radius + " m radius to the " +
+         (h.radius_m > 0 ? "left" : "right");
 }
 
 std::string constraintName(Constraint c) {

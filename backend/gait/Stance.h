@@ -45,6 +45,10 @@ struct Heading {
   Eigen::Vector2d motionAt(const Eigen::Vector2d& body_point) const;
 };
 
+// "straight", "on an arc of 10.0 m radius to the left", "turning
+// left in place".
+std::string describe(const Heading& heading);
+
 // Where the feet are: world positions of the soles, and which legs stand.
 struct Stance {
   BodyPose body;

@@ -137,7 +137,11 @@ std::string describeDecision(const std::string& detail) {
                     (j.contains("foothold_m") ? " to " + triple(j["foothold_m"]) : ""));
   else if (leg)
     parts.push_back("body move only");
-  if (const auto u = number("body_advance")) parts.push_back("body advance " + fixed(*u, 2) + " m");
+  if (const auto m = number("body_move_m"))
+    parts.push_back("body moves " + fixed(*m, 2) + " m, turns " +
+                    fixed(number("body_turn_deg").value_or(0.0), 1) + " deg");
+  else if (const auto u = number("body_advance"))  // a log from before the two above
+    parts.push_back("body advance " + fixed(*u, 2) + " m");
   if (const auto m = number("min_csp_margin_m"))
     parts.push_back("least stability margin " + fixed(*m, 2) + " m");
   if (j.contains("interlocks") && j["interlocks"].is_string()) {

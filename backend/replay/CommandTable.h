@@ -58,9 +58,9 @@ class CommandTable {
 std::string describeCommand(const link::CommandBody& body);
 
 // What a decision was about, as a sentence with units: "leg 2 to (1.20,
-// 3.40, -0.05) m, body advance 0.52 m, least stability margin 0.15 m,
-// interlocks passed; reason: ..."; a detail that is not the gate's JSON is
-// shown as it is.
+// 3.40, -0.05) m, body moves 0.52 m, turns 15.0 deg, least stability
+// margin 0.15 m, interlocks passed; reason: ..."; a detail that is not the
+// gate's JSON is shown as it is.
 std::string describeDecision(const std::string& detail);
 
 }  // namespace ambler::replay

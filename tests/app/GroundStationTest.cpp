@@ -342,6 +342,36 @@ class GroundStationTest : public QObject {
     QCOMPARE(events, 2);
   }
 
+  // The toolbar's path: three steps turning left in place, auto-approved.
+  // The rover turns left where it stands, the walk's task says so, and the
+  // decisions give the body's turn in degrees (a turn's body_u is radians).
+  void theToolbarsTurnInPlaceTurnsTheRover() {
+    using Path = ambler::widgets::WalkCommand::Path;
+    Console c;
+    auto& window = c.station.window();
+    auto* bar = window.walkCommandBar();
+    bar->setCommand({3, Path::kArcLeft, 12.0});
+    QCOMPARE(bar->command().radius_m, 12.0);
+    bar->setCommand({3, Path::kTurnLeft, 12.0});
+    QCOMPARE(bar->command().path, Path::kTurnLeft);
+    c.panel.autoApproveSwitch()->setChecked(true);
+    window.walkAction()->trigger();
+    QTRY_COMPARE_WITH_TIMEOUT(c.session().state().phase, Phase::kDone, 60000);
+    const auto& state = c.session().state();
+    const auto& body = state.reported->body;
+    QVERIFY2(body.heading_rad > 10 * M_PI / 180, qPrintable(QString::number(body.heading_rad)));
+    QVERIFY2(body.xy.norm() < 0.5, qPrintable(QString::number(body.xy.norm())));
+    QVERIFY(std::any_of(state.tasks.begin(), state.tasks.end(), [](const auto& t) {
+      return t.name == "walk 3 steps turning left in place";
+    }));
+    const auto& rows = c.session().commandRows();
+    QVERIFY(std::any_of(rows.begin(), rows.end(), [](const auto& r) {
+      const auto at = r.reason.find(", turns ");
+      return r.what.rfind("approved", 0) == 0 && at != std::string::npos &&
+             std::stod(r.reason.substr(at + 8)) > 5.0;
+    }));
+  }
+
   // Hold stops a walk in the middle of a step: the Hold goes out signed,
   // the rover says it holds, nothing more is sent, and the next walk ends
   // the hold.

@@ -311,6 +311,8 @@ TEST(Executive, AProposalRecordComesBackFromTheLog) {
   p.plan.foothold = {1.25, -0.5, 0.02};
   p.plan.body_u = 0.41;
   p.plan.min_csp_margin = 0.12;
+  p.body_move_m = 0.05;
+  p.body_turn_deg = 23.5;
   p.interlocks.checks = {{"plan", true, "body stopped by the CSP"},
                          {"reach", false, "knee 2.1 deg beyond its range"}};
   const auto back = proposalFromRecord(proposalRecord(p));
@@ -319,6 +321,8 @@ TEST(Executive, AProposalRecordComesBackFromTheLog) {
   EXPECT_TRUE(back.plan.foothold.isApprox(p.plan.foothold));
   EXPECT_DOUBLE_EQ(back.plan.body_u, 0.41);
   EXPECT_DOUBLE_EQ(back.plan.min_csp_margin, 0.12);
+  EXPECT_DOUBLE_EQ(back.body_move_m, 0.05);
+  EXPECT_DOUBLE_EQ(back.body_turn_deg, 23.5);
   ASSERT_EQ(back.interlocks.checks.size(), 2u);
   EXPECT_FALSE(back.interlocks.passed());
   EXPECT_EQ(back.interlocks.firstFailure(), p.interlocks.firstFailure());
@@ -327,6 +331,13 @@ TEST(Executive, AProposalRecordComesBackFromTheLog) {
                                 R"("foothold_m":[1,2],"interlocks":[]})"}) {
     EXPECT_THROW(proposalFromRecord(bad), std::invalid_argument) << bad;
   }
+  // A log from before the body's move and turn were kept: a straight walk,
+  // whose body advance is the move.
+  const auto old = proposalFromRecord(
+      R"({"proposal":2,"leg":-1,"foothold_m":[0,0,0],"body_advance":0.3,"min_csp_margin_m":0.1,)"
+      R"("interlocks":[]})");
+  EXPECT_DOUBLE_EQ(old.body_move_m, 0.3);
+  EXPECT_DOUBLE_EQ(old.body_turn_deg, 0.0);
 }
 
 TEST(Executive, ARejectedStepSendsNothing) {

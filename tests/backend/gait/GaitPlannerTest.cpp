@@ -90,6 +90,15 @@ TEST(Heading, ArcsAreExact) {
   EXPECT_NEAR(turned.heading_rad, 0.3 - 0.5, 1e-12);
 }
 
+// How the mission log names a walk's path.
+TEST(Heading, IsDescribedWithItsSideAndRadius) {
+  EXPECT_EQ(describe(Heading{}), "straight");
+  EXPECT_EQ(describe(Heading{10.0}), "on an arc of 10.0 m radius to the left");
+  EXPECT_EQ(describe(Heading{-6.0}), "on an arc of 6.0 m radius to the right");
+  EXPECT_EQ(describe(Heading{0.0, true}), "turning left in place");
+  EXPECT_EQ(describe(Heading{0.0, false}), "turning right in place");
+}
+
 TEST(Stance, NominalStanceKeepsEveryConstraint) {
   const GaitContext ctx = context();
   const Stance s = nominalStance({{0, 0}, 0.0, 2.4}, ctx.model, ctx.gait);

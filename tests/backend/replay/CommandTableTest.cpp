@@ -65,9 +65,15 @@ TEST(CommandTable, DecisionsAndEventsReadAsSentencesWithUnits) {
                  R"("rms_m":0.0012,"points":812}})"});
   table.decided({4.0, "bob", 6, missionlog::Verdict::kEdited, "{not json"});
   table.noted(5.0, "step suspended: no step to propose");
+  // A turn in place: body_advance is in radians there, so the sentence
+  // takes the body's move and turn instead.
+  table.decided({6.0, "alice", 8, missionlog::Verdict::kApproved,
+                 R"({"proposal":8,"leg":3,"body_advance":0.2618,"body_move_m":0.004,)"
+                 R"("body_turn_deg":15.0012,"min_csp_margin_m":0.2,"interlocks":"passed",)"
+                 R"("foothold_m":[1.0,2.0,0.1]})"});
 
   const auto& rows = table.rows();
-  ASSERT_EQ(rows.size(), 5u);
+  ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(rows[0].reason,
             "leg 2 to (1.23, -3.40, -0.05) m, body advance 0.52 m, least stability margin 0.15 m, "
             "interlocks passed");
@@ -78,6 +84,9 @@ TEST(CommandTable, DecisionsAndEventsReadAsSentencesWithUnits) {
   EXPECT_EQ(rows[2].reason,
             "rock at (0.10, 0.20, 0.03) m, size (0.05, 0.04, 0.03) m, fit rms 1.2 mm, 812 points");
   EXPECT_EQ(rows[3].reason, "{not json");  // not the gate's: shown as it is
+  EXPECT_EQ(rows[5].reason,
+            "leg 3 to (1.00, 2.00, 0.10) m, body moves 0.00 m, turns 15.0 deg, least stability "
+            "margin 0.20 m, interlocks passed");
   EXPECT_EQ(rows[4].who, "ground");
   EXPECT_EQ(rows[4].what, "step suspended: no step to propose");
 }
