@@ -59,6 +59,10 @@ QChartView* makeChartView(const QString& title) {
 void addAxes(QChart* chart, QAbstractAxis* y) {
   auto* x = new QValueAxis;
   x->setTitleText(QObject::tr("Time since start [s]"));
+  // Fifths of the range (1, 2 or 5 times a power of ten, roundUp()): ticks
+  // at 0.2, 0.4, 1 or 2 times a power of ten, which the labels' decimals
+  // show exactly (quarters of 1 s read 0.3 and 0.8).
+  x->setTickCount(6);
   chart->addAxis(x, Qt::AlignBottom);
   chart->addAxis(y, Qt::AlignLeft);
 }
