@@ -2,6 +2,8 @@
 // course (cmu-1990: scan, map, merge, footfall, gait plan, execute), by the
 // walk executive ambler-gs runs, auto-approving steps that pass every
 // interlock.
+#include <cmath>
+#include <cstdlib>
 #include <memory>
 
 #include "cli/Arguments.h"
@@ -293,7 +295,16 @@ void addWalk(CLI::App& app) {
       ->capture_default_str();
   auto* radius = cmd->add_option("--radius", args->radius,
                                  "follow an arc of this radius [m], positive turns left "
-                                 "(default: straight)");
+                                 "(default: straight)")
+                     ->check(CLI::Validator(
+                         [](const std::string& text) {
+                           const double r = std::strtod(text.c_str(), nullptr);
+                           return std::isfinite(r) && r != 0.0
+                                      ? std::string()
+                                      : "must be a finite number of metres other than 0 (a turn "
+                                        "in place is --turn)";
+                         },
+                         "", "RADIUS"));
   cmd->add_option("--turn", args->turn, "turn in place instead: left or right")
       ->check(CLI::IsMember({"left", "right"}))
       ->excludes(radius);

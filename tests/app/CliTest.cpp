@@ -603,6 +603,13 @@ TEST(Cli, WalkPrintsTheWalksFigures) {
   EXPECT_NE(bad.out.find("csp_margin_m"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("rover.json"), std::string::npos) << bad.out;
   EXPECT_NE(runCli("walk --radius 5 --turn left").exit_code, 0);  // one or the other
+  // An arc needs a radius it can follow: NaN once walked nowhere, saying
+  // that no leg could reach a foothold.
+  for (const char* radius : {"nan", "inf", "0"}) {
+    const auto arc = runCli(std::string("walk --steps 1 --radius ") + radius);
+    EXPECT_NE(arc.exit_code, 0) << radius;
+    EXPECT_NE(arc.out.find("--radius: must be a finite number"), std::string::npos) << arc.out;
+  }
 }
 
 TEST(Cli, EvalWalkComparesConcurrentAndSequentialPlanning) {
