@@ -8,6 +8,14 @@
 
 namespace ambler::widgets {
 
+namespace {
+
+bool isArc(WalkCommand::Path path) {
+  return path == WalkCommand::Path::kArcLeft || path == WalkCommand::Path::kArcRight;
+}
+
+}  // namespace
+
 WalkCommandBar::WalkCommandBar(QWidget* parent)
     : QWidget(parent), steps_(new QSpinBox), path_(new QComboBox), radius_(new QDoubleSpinBox) {
   steps_->setRange(1, 1000);
@@ -17,8 +25,8 @@ WalkCommandBar::WalkCommandBar(QWidget* parent)
   path_->addItems({tr("straight"), tr("arc left"), tr("arc right"), tr("turn left in place"),
                    tr("turn right in place")});
   path_->setToolTip(tr("The path the body follows"));
-  // Tighter than the tread (2.25 m) the inner stack walks backwards, as in
-  // a turn in place.
+  // From 2 m: a tighter arc turns nearly in place (the stacks stand 4.5 m
+  // apart), which the path list offers as such.
   radius_->setRange(2.0, 1000.0);
   radius_->setDecimals(1);
   radius_->setSuffix(tr(" m"));
@@ -29,11 +37,8 @@ WalkCommandBar::WalkCommandBar(QWidget* parent)
   layout->addWidget(path_);
   layout->addWidget(new QLabel(tr("radius")));
   layout->addWidget(radius_);
-  connect(path_, &QComboBox::currentIndexChanged, this, [this](int index) {
-    const auto path = WalkCommand::Path(index);
-    radius_->setEnabled(path == WalkCommand::Path::kArcLeft ||
-                        path == WalkCommand::Path::kArcRight);
-  });
+  connect(path_, &QComboBox::currentIndexChanged, this,
+          [this](int index) { radius_->setEnabled(isArc(WalkCommand::Path(index))); });
   setCommand({});
 }
 
@@ -45,8 +50,7 @@ void WalkCommandBar::setCommand(const WalkCommand& command) {
   steps_->setValue(command.steps);
   radius_->setValue(command.radius_m);
   path_->setCurrentIndex(int(command.path));
-  radius_->setEnabled(command.path == WalkCommand::Path::kArcLeft ||
-                      command.path == WalkCommand::Path::kArcRight);
+  radius_->setEnabled(isArc(command.path));
 }
 
 }  // namespace ambler::widgets
