@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gait/Stance.h"
 #include "terrain/Locus.h"
 
 namespace ambler::cli {
@@ -51,5 +52,15 @@ void addEvalAll(CLI::App& eval, std::shared_ptr<const Evaluations> all);
 // The locus map's options shared by `map` and `eval elevation`: occluding
 // edges and the sample spacing beyond which cells are unknown.
 void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus);
+
+// The path a walk follows, shared by `walk` and `drive`: an arc of
+// --radius (finite, not 0), a turn in place (--turn left|right), or
+// straight without either.
+struct WalkPath {
+  double radius_m = 0.0;  // 0: straight
+  std::string turn;       // "left", "right" or empty
+  gait::Heading heading() const;
+};
+void addWalkPathOptions(CLI::App& cmd, WalkPath& path);
 
 }  // namespace ambler::cli

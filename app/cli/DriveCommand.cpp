@@ -32,6 +32,7 @@ struct DriveArgs {
   std::string key;
   std::string log;
   int steps = 5;
+  WalkPath path;
   bool auto_approve = false, resume = false, watch = false, take_over = false, hand_over = false;
   double timeout_s = 600.0;
   double validity_s = 10.0;
@@ -242,6 +243,7 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
   executive::ExecutiveOptions options;
   options.rover_id = a.rover_id;
   options.steps = a.steps;
+  options.heading = a.path.heading();
   executive::WalkExecutive executive(c.link, signer, gate, context, options);
   executive.onProduct([&](double t, const std::string& kind, const std::string& parameters) {
     c.log.recordProduct(t, kind, parameters);
@@ -353,6 +355,7 @@ void addDrive(CLI::App& app) {
   cmd->add_option("--steps", args->steps, "steps to walk")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
+  addWalkPathOptions(*cmd, args->path);
   cmd->add_flag("--auto-approve", args->auto_approve,
                 "release every step that passes its interlocks without asking (required: there "
                 "is no operator here)");

@@ -22,8 +22,7 @@ struct WalkArgs {
   int seed = 1;
   int steps = 25;
   std::string course = "obstacle";  // obstacle | traverse
-  double radius = 0.0;              // 0: straight
-  std::string turn;                 // left | right: point turn
+  WalkPath path;
   bool sequential = false;
   bool compare = false;
   bool no_registration = false;
@@ -153,10 +152,7 @@ void runWalk(const WalkArgs& a) {
   o.concurrent = !a.sequential;
   o.time_scale = a.time_scale;
   o.register_scans = !a.no_registration;
-  if (!a.turn.empty())
-    o.heading = {0.0, a.turn == "left"};
-  else if (a.radius != 0.0)
-    o.heading.radius_m = a.radius;
+  o.heading = a.path.heading();
   if (!a.compare) {
     nlohmann::json out = resultJson(walk::runWalk(config, o), o.concurrent, a.log);
     out["seed"] = a.seed;
@@ -276,6 +272,29 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
 
 }  // namespace
 
+gait::Heading WalkPath::heading() const {
+  if (!turn.empty()) return {0.0, turn == "left"};
+  return radius_m != 0.0 ? gait::Heading{radius_m} : gait::Heading{};
+}
+
+void addWalkPathOptions(CLI::App& cmd, WalkPath& path) {
+  auto* radius = cmd.add_option("--radius", path.radius_m,
+                                "follow an arc of this radius [m], positive turns left "
+                                "(default: straight)")
+                     ->check(CLI::Validator(
+                         [](const std::string& text) {
+                           const double r = std::strtod(text.c_str(), nullptr);
+                           return std::isfinite(r) && r != 0.0
+                                      ? std::string()
+                                      : "must be a finite number of metres other than 0 (a turn "
+                                        "in place is --turn)";
+                         },
+                         "", "RADIUS"));
+  cmd.add_option("--turn", path.turn, "turn in place instead: left or right")
+      ->check(CLI::IsMember({"left", "right"}))
+      ->excludes(radius);
+}
+
 void addWalk(CLI::App& app) {
   auto args = std::make_shared<WalkArgs>();
   auto* cmd = app.add_subcommand(
@@ -293,21 +312,7 @@ void addWalk(CLI::App& app) {
                   "field (docs/simulator.md), both 60 m")
       ->check(CLI::IsMember({"obstacle", "traverse", "rocks20", "craters"}))
       ->capture_default_str();
-  auto* radius = cmd->add_option("--radius", args->radius,
-                                 "follow an arc of this radius [m], positive turns left "
-                                 "(default: straight)")
-                     ->check(CLI::Validator(
-                         [](const std::string& text) {
-                           const double r = std::strtod(text.c_str(), nullptr);
-                           return std::isfinite(r) && r != 0.0
-                                      ? std::string()
-                                      : "must be a finite number of metres other than 0 (a turn "
-                                        "in place is --turn)";
-                         },
-                         "", "RADIUS"));
-  cmd->add_option("--turn", args->turn, "turn in place instead: left or right")
-      ->check(CLI::IsMember({"left", "right"}))
-      ->excludes(radius);
+  addWalkPathOptions(*cmd, args->path);
   cmd->add_flag("--sequential", args->sequential,
                 "perceive, plan and execute one after the other (default: plan the next step "
                 "while this one executes)");

@@ -739,6 +739,11 @@ TEST(Cli, DriveRefusesToRunWithoutAnOperatorOrAutoApprove) {
                           (dir / "m.db").string());
   EXPECT_NE(run.exit_code, 0);
   EXPECT_NE(run.out.find("pass --auto-approve"), std::string::npos) << run.out;
+  // The walk's path is checked as `walk` checks it, before anything is sent.
+  const auto arc = runCli("drive --auto-approve --radius nan --key " +
+                          (dir / "alice.json").string() + " --log " + (dir / "m.db").string());
+  EXPECT_NE(arc.exit_code, 0);
+  EXPECT_NE(arc.out.find("--radius: must be a finite number"), std::string::npos) << arc.out;
 }
 
 }  // namespace
