@@ -31,7 +31,6 @@
 #include "widgets/TerrainMeshPanel.h"
 #include "widgets/TerrainView.h"
 #include "widgets/TimelineBar.h"
-#include "widgets/WalkCommandBar.h"
 
 namespace ambler::widgets {
 

@@ -449,7 +449,7 @@ void WalkExecutive::planAndPropose(double now_s) {
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
   }
-  if (proposal->plan.body_u < ctx_.gait.body_step_m &&
+  if (!advancesTheBody(proposal->plan.body_u) &&
       steps_without_advance_ + 1 >= opt_.max_steps_without_advance) {
     const int n = steps_without_advance_;
     const std::string why = "the body has not advanced in " + std::to_string(n) +
@@ -658,7 +658,7 @@ void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {
 
 void WalkExecutive::finishStep(double now_s) {
   early_contacts_ = 0;
-  steps_without_advance_ = step_.body_u < ctx_.gait.body_step_m ? steps_without_advance_ + 1 : 0;
+  steps_without_advance_ = advancesTheBody(step_.body_u) ? 0 : steps_without_advance_ + 1;
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;
   step_.reported = report_.stance(ctx_.model)->body;

@@ -186,6 +186,9 @@ class WalkExecutive {
 
  private:
   void advance(const std::vector<link::Telemetry>& messages, double now_s);
+  // Whether a body move of `body_u` advances the body along the heading:
+  // at least one of the planner's body steps.
+  bool advancesTheBody(double body_u) const { return body_u >= ctx_.gait.body_step_m; }
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
