@@ -6,6 +6,7 @@
 #include <QDir>
 #include <QStatusBar>
 #include <QtConcurrent/QtConcurrentRun>
+#include <cmath>
 #include <utility>
 
 #include "app/gs/DdsConnection.h"
@@ -40,6 +41,17 @@ gait::Heading headingFor(const widgets::WalkCommand& c) {
       break;
   }
   return {};
+}
+
+// The toolbar's command for a walk started elsewhere (--walk, the soak),
+// keeping the bar's radius where the walk has none.
+widgets::WalkCommand commandFor(int steps, const gait::Heading& heading, double shown_radius_m) {
+  using Path = widgets::WalkCommand::Path;
+  if (heading.isPointTurn())
+    return {steps, heading.point_turn_left ? Path::kTurnLeft : Path::kTurnRight, shown_radius_m};
+  if (!std::isfinite(heading.radius_m)) return {steps, Path::kStraight, shown_radius_m};
+  return {steps, heading.radius_m > 0 ? Path::kArcLeft : Path::kArcRight,
+          std::abs(heading.radius_m)};
 }
 
 bool sameStance(const std::optional<gait::Stance>& a, const std::optional<gait::Stance>& b) {
@@ -238,6 +250,8 @@ void GroundStation::startWalk(int steps, const gait::Heading& heading) {
                                         : choice_)))
     return;
   if (!session_ && report(openSession())) return;
+  auto* bar = window_.walkCommandBar();
+  bar->setCommand(commandFor(steps, heading, bar->command().radius_m));
   session_start_s_ = link::utcNowS();
   history_.clear();
   // Each walk maps afresh: the last walk's map goes at once, before the

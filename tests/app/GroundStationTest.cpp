@@ -372,6 +372,26 @@ class GroundStationTest : public QObject {
     }));
   }
 
+  // A walk started outside the toolbar (--walk, the soak) shows in it
+  // what it walks: the steps, the path and an arc's radius; a straight
+  // walk keeps the radius the operator set.
+  void aWalkStartedElsewhereShowsInTheToolbar() {
+    using Path = ambler::widgets::WalkCommand::Path;
+    Console c;
+    auto* bar = c.station.window().walkCommandBar();
+    bar->setCommand({5, Path::kStraight, 7.0});
+    c.station.startWalk(4, ambler::gait::Heading{-15.0});
+    QCOMPARE(bar->command().steps, 4);
+    QCOMPARE(bar->command().path, Path::kArcRight);
+    QCOMPARE(bar->command().radius_m, 15.0);
+    c.station.startWalk(2, ambler::gait::Heading{0.0, false});
+    QCOMPARE(bar->command().path, Path::kTurnRight);
+    c.start(9);
+    QCOMPARE(bar->command().steps, 9);
+    QCOMPARE(bar->command().path, Path::kStraight);
+    QCOMPARE(bar->command().radius_m, 15.0);
+  }
+
   // Hold stops a walk in the middle of a step: the Hold goes out signed,
   // the rover says it holds, nothing more is sent, and the next walk ends
   // the hold.
