@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "app/gs/EventLoopWatchdog.h"
@@ -125,9 +126,33 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
   poll->start(100);
 }
 
+// Without a display Qt aborts at QApplication. --help and --version need
+// none, so they get the offscreen platform; anything else is refused with
+// what to do, exit code 2.
+bool haveADisplayOrNeedNone(int argc, char** argv) {
+  if (qEnvironmentVariableIsSet("QT_QPA_PLATFORM") || qEnvironmentVariableIsSet("DISPLAY") ||
+      qEnvironmentVariableIsSet("WAYLAND_DISPLAY"))
+    return true;
+  bool help = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a(argv[i]);
+    if (a == "-platform") return true;
+    help = help || a == "-h" || a == "--help" || a == "--help-all" || a == "-v" || a == "--version";
+  }
+  if (help) {
+    qputenv("QT_QPA_PLATFORM", "offscreen");
+    return true;
+  }
+  std::cerr << "ambler-gs: no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a "
+               "desktop session, under xvfb-run, or with QT_QPA_PLATFORM=offscreen"
+            << std::endl;
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (!haveADisplayOrNeedNone(argc, argv)) return 2;
   ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
   // One heap for every thread. A heap per thread (the walk session, the
   // render threads, the pools, llvmpipe's) would keep each one's peak for
