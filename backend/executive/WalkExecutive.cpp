@@ -601,6 +601,16 @@ void WalkExecutive::afterMove(double now_s) {
   if (leg_move) {
     const Eigen::Vector3d& foot = reported_->feet[std::size_t(plan.leg)];
     const double short_by = (foot - plan.foothold).norm();
+    if (plan.foothold.z() - foot.z() > opt_.late_contact_m) {
+      // The foot went on down to ground the map put higher and stands
+      // there: the leg is placed, but the body move was checked for the
+      // planned height. Planned again from here; no early contact.
+      feelGround(foot);
+      const std::string met = "leg " + std::to_string(plan.leg) + " met the ground " +
+                              metres(plan.foothold.z() - foot.z()) + " below its foothold";
+      planStepAgain(now_s, "late contact", met + " (late contact)", met + " (late contact)");
+      return;
+    }
     if (short_by > opt_.early_contact_m) {
       feelGround(foot);
       const std::string stopped =
@@ -608,17 +618,13 @@ void WalkExecutive::afterMove(double now_s) {
       if (++early_contacts_ >= opt_.max_early_contacts) {
         suspend(now_s,
                 stopped + " from its foothold, early contact " + std::to_string(early_contacts_) +
-                    " times in a row: the map misses what the foot meets",
+                    (early_contacts_ == 1 ? " time" : " times") +
+                    " in a row: the map misses what the foot meets",
                 false);
         return;
       }
-      // The body has not moved: plan the step again from here.
-      tasks_.suspend(step_task_, now_s, "early contact");
-      note(now_s, stopped + " from its foothold (early contact): replanning");
-      replanned_because_ = stopped + " short (early contact), replanned";
-      executing_.reset();
-      ahead_.reset();
-      requestScan(now_s);
+      planStepAgain(now_s, "early contact", stopped + " from its foothold (early contact)",
+                    stopped + " short (early contact)");
       return;
     }
   } else {
@@ -638,14 +644,34 @@ void WalkExecutive::afterMove(double now_s) {
   if (next_command_ == executing_->commands.size()) planAhead(now_s);
 }
 
-// The sole rests on ground higher than the map says (an early contact):
-// the cell under the foot takes the sole's height, so that the next plan
-// sees what the foot met instead of choosing the same foothold again. The
-// scans that follow may not see it (under the sole's rim, in a rock's
-// shadow), so every merge keeps the felt ground at least that high.
+// The body has not moved: the step is planned again from the stance the
+// rover reports, after a scan.
+void WalkExecutive::planStepAgain(double now_s, const std::string& why, const std::string& what,
+                                  const std::string& because) {
+  tasks_.suspend(step_task_, now_s, why);
+  note(now_s, what + ": replanning");
+  replanned_because_ = because + ", replanned";
+  executing_.reset();
+  ahead_.reset();
+  requestScan(now_s);
+}
+
+// The sole rests on ground other than the map says (an early or a late
+// contact): the cell under the foot takes the sole's height, so that the
+// next plan sees what the foot met instead of choosing the same foothold
+// again. The scans that follow may not see it (under the sole's rim, in a
+// rock's shadow), so every merge keeps the felt ground at least that high.
+// A flat sole resting at z has nothing under it higher than z: felt ground
+// it covers that stands higher was met under an earlier sole's rim, not
+// at its centre, and goes.
 void WalkExecutive::feelGround(const Eigen::Vector3d& foot) {
+  const double radius = 0.5 * ctx_.model.foot_diameter_m;
+  std::erase_if(felt_, [&](const Eigen::Vector3d& f) {
+    return (f.head<2>() - foot.head<2>()).norm() < radius && f.z() > foot.z();
+  });
   felt_.push_back(foot);
-  holdFeltGround(foot);
+  if (const auto cell = map_.grid().cellAt(foot.x(), foot.y()))
+    map_.setKnown(cell->row, cell->col, foot.z(), opt_.early_contact_m / 2);
 }
 
 void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {

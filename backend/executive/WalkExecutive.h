@@ -46,6 +46,9 @@ struct ExecutiveOptions {
   // off: scan, plan and execute one after the other.
   bool plan_ahead = true;
   double early_contact_m = 0.05;  // a foot this far short of its last waypoint
+  // A foot this far below its foothold went on down to ground the map put
+  // higher: planned again from there, not an early contact.
+  double late_contact_m = 0.05;
   // Early contacts in a row, with no step done between them, after which
   // the walk suspends: the map misses what the foot meets, and planning
   // again from the same map meets it again.
@@ -163,7 +166,8 @@ class WalkExecutive {
   const std::optional<gait::Stance>& reported() const { return reported_; }
   const RoverReport& report() const { return report_; }
   const terrain::ElevationMap& map() const { return map_; }
-  // Where soles met ground above the map (early contacts), in the map frame.
+  // Where soles met ground other than the map said (early and late
+  // contacts), in the map frame.
   const std::vector<Eigen::Vector3d>& feltGround() const { return felt_; }
   const std::vector<StepRecord>& stepLog() const { return step_log_; }
   const GroundWork& groundWork() const { return work_; }
@@ -216,6 +220,8 @@ class WalkExecutive {
   void afterMove(double now_s);
   void finishStep(double now_s);
   void suspend(double now_s, const std::string& why, bool hold);
+  void planStepAgain(double now_s, const std::string& why, const std::string& what,
+                     const std::string& because);
   void feelGround(const Eigen::Vector3d& foot);
   void holdFeltGround(const Eigen::Vector3d& foot);
   void note(double now_s, const std::string& what);
@@ -227,7 +233,7 @@ class WalkExecutive {
   gait::GaitContext ctx_;
   ExecutiveOptions opt_;
   terrain::ElevationMap map_;
-  std::vector<Eigen::Vector3d> felt_;  // soles that met ground above the map
+  std::vector<Eigen::Vector3d> felt_;  // soles that met ground other than the map said
   TaskTree tasks_;
   std::vector<ExecutiveEvent> events_;
   Phase phase_ = Phase::kIdle;
