@@ -5,10 +5,10 @@
 #include <QDateTime>
 #include <QDir>
 #include <QStatusBar>
-#include <QtConcurrent/QtConcurrentRun>
 #include <cmath>
 #include <utility>
 
+#include "app/gs/Background.h"
 #include "app/gs/DdsConnection.h"
 #include "gait/Support.h"
 #include "link/Signing.h"
@@ -385,7 +385,7 @@ void GroundStation::openLog(const QString& path) {
           [opening = opening_] { opening->cancel = true; });
   progress_timer_.start(100);
   auto job = opening_;
-  open_watcher_.setFuture(QtConcurrent::run([job]() -> std::shared_ptr<replay::MissionTimeline> {
+  open_watcher_.setFuture(runInBackground([job]() -> std::shared_ptr<replay::MissionTimeline> {
     try {
       return std::make_shared<replay::MissionTimeline>(
           replay::MissionTimeline::build(job->path.toStdString(), [job](int done, int total) {

@@ -1,7 +1,8 @@
 #include "app/gs/MeshController.h"
 
-#include <QtConcurrent/QtConcurrentRun>
 #include <cmath>
+
+#include "app/gs/Background.h"
 
 #include "widgets/TerrainMeshPanel.h"
 
@@ -19,7 +20,6 @@ double msSince(std::chrono::steady_clock::time_point start) {
 MeshController::MeshController(widgets::TerrainMeshPanel& panel, QObject* parent)
     : QObject(parent), panel_(panel) {
   background_.setMaxThreadCount(1);
-  background_.setThreadPriority(QThread::IdlePriority);
   connect(&icp_watcher_, &QFutureWatcher<mapping::Registration>::finished, this,
           &MeshController::takeRegistration);
   connect(&mesh_watcher_, &QFutureWatcher<MeshJob>::finished, this, &MeshController::takeMesh);
@@ -79,7 +79,7 @@ void MeshController::registerNext() {
   if (!job) return;
   icp_start_ = std::chrono::steady_clock::now();
   icp_watcher_.setFuture(
-      QtConcurrent::run(&background_, [job = *job] { return mapping::ScanChain::run(job); }));
+      runInBackground(&background_, [job = *job] { return mapping::ScanChain::run(job); }));
 }
 
 void MeshController::takeRegistration() {
@@ -116,7 +116,7 @@ void MeshController::buildMesh() {
   std::size_t points = 0;
   for (const auto& part : ground_) points += part->size();
   if (points < 3) return;
-  mesh_watcher_.setFuture(QtConcurrent::run([ground = ground_, id = ground_id_, points] {
+  mesh_watcher_.setFuture(runInBackground([ground = ground_, id = ground_id_, points] {
     const auto start = std::chrono::steady_clock::now();
     mapping::Cloud cloud;
     cloud.reserve(points);
@@ -163,7 +163,7 @@ void MeshController::plan() {
   mapping::PathOptions options;
   options.cost = panel_.pathCost();
   options.max_slope_deg = panel_.maxSlopeDeg();
-  path_watcher_.setFuture(QtConcurrent::run(
+  path_watcher_.setFuture(runInBackground(
       [mesh = mesh_, from = *start_, to = *goal_, options, request = path_request_] {
         const auto start = std::chrono::steady_clock::now();
         PathJob job{request, mapping::planPath(*mesh, from, to, options), 0.0};

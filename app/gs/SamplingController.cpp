@@ -1,8 +1,8 @@
 #include "app/gs/SamplingController.h"
 
-#include <QtConcurrent/QtConcurrentRun>
 #include <nlohmann/json.hpp>
 
+#include "app/gs/Background.h"
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
 #include "widgets/SamplingPanel.h"
@@ -50,7 +50,7 @@ void SamplingController::simulateTray(quint64 seed) {
     next_tray_ = seed;  // the newest wish wins
     return;
   }
-  tray_watcher_.setFuture(QtConcurrent::run([seed]() -> std::shared_ptr<const Tray> {
+  tray_watcher_.setFuture(runInBackground([seed]() -> std::shared_ptr<const Tray> {
     const sim::ProceduralTerrain tray(
         sim::makeWorkArea({.seed = seed, .burial_min = 0.0, .burial_max = 0.5}));
     auto made = std::make_shared<Tray>();
@@ -79,7 +79,7 @@ void SamplingController::fitAt(double row, double col, bool robust) {
   }
   sampling::SamplingOptions options;
   options.fit.robust = robust;
-  fit_watcher_.setFuture(QtConcurrent::run([tray = tray_, at = Eigen::Vector2d(col, row), options] {
+  fit_watcher_.setFuture(runInBackground([tray = tray_, at = Eigen::Vector2d(col, row), options] {
     Fit fit;
     fit.robust = options.fit.robust;
     fit.tray = tray;

@@ -1,8 +1,8 @@
 #include "app/gs/SimulatorSource.h"
 
-#include <QtConcurrent/QtConcurrentRun>
 #include <chrono>
 
+#include "app/gs/Background.h"
 #include "sim/CourseScene.h"
 
 namespace ambler::gs {
@@ -21,7 +21,8 @@ SimulatorSource::SimulatorSource(sim::ScannerModel model, std::optional<sim::Dtm
 
 void SimulatorSource::requestScan(quint64 seed) {
   if (watcher_.isRunning()) return;  // one scan at a time, like the sensor
-  watcher_.setFuture(QtConcurrent::run(&SimulatorSource::simulate, model_, dtm_, seed));
+  watcher_.setFuture(runInBackground(
+      [model = model_, dtm = dtm_, seed] { return SimulatorSource::simulate(model, dtm, seed); }));
 }
 
 SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model,

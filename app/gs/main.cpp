@@ -8,7 +8,6 @@
 #include <QMessageBox>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
-#include <QThreadPool>
 #include <QTimer>
 
 #include <algorithm>
@@ -164,7 +163,6 @@ int main(int argc, char** argv) {
   // VTK needs this format, and it must be the default before QApplication.
   QSurfaceFormat::setDefaultFormat(ambler::rendering::VtkView::defaultFormat());
   QApplication app(argc, argv);
-  QThreadPool::globalInstance()->setThreadPriority(QThread::IdlePriority);
   QApplication::setOrganizationName("Ambler");
   QApplication::setApplicationName("ambler-gs");
   QApplication::setApplicationVersion(AMBLER_VERSION);

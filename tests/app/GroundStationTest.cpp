@@ -24,6 +24,7 @@
 #include <random>
 #include <set>
 
+#include "app/gs/Background.h"
 #include "app/gs/GroundStation.h"
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
@@ -370,6 +371,29 @@ class GroundStationTest : public QObject {
       return r.what.rfind("approved", 0) == 0 && at != std::string::npos &&
              std::stod(r.reason.substr(at + 8)) > 5.0;
     }));
+  }
+
+  // Work that only feeds a view runs at nice 10, below the GUI thread and
+  // the renderers yet never starved (SCHED_IDLE starved a worker holding
+  // malloc's lock while the GUI thread waited for it); so do the OpenMP
+  // threads such a job starts.
+  void backgroundWorkRunsAtNiceTen() {
+    using ambler::gs::runInBackground;
+    const auto nice = [] { return getpriority(PRIO_PROCESS, id_t(gettid())); };
+    auto job = runInBackground([&] { return std::make_pair(nice(), sched_getscheduler(0)); });
+    job.waitForFinished();
+    QCOMPARE(job.result().first, 10);
+    QCOMPARE(job.result().second, SCHED_OTHER);
+    QThreadPool pool;
+    auto team = runInBackground(&pool, [&] {
+      int lowest = 20;
+#pragma omp parallel num_threads(2) reduction(min : lowest)
+      lowest = std::min(lowest, nice());
+      return lowest;
+    });
+    team.waitForFinished();
+    QCOMPARE(team.result(), 10);
+    QCOMPARE(nice(), 0);  // the GUI thread keeps its own
   }
 
   // A walk started outside the toolbar (--walk, the soak) shows in it
