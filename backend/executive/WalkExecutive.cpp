@@ -1,6 +1,7 @@
 #include "executive/WalkExecutive.h"
 
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <sstream>
 #include <utility>
 
@@ -74,6 +75,8 @@ void WalkExecutive::resume(double now_s) {
   endHold(now_s);
   early_contacts_ = 0;  // the operator asked for another try
   steps_without_advance_ = 0;
+  recent_advance_.clear();
+  last_step_end_.reset();
   if (steps_done_ >= opt_.steps) {
     note(now_s, "resumed: the closing scan again");
     requestClosingScan(now_s);
@@ -449,16 +452,11 @@ void WalkExecutive::planAndPropose(double now_s) {
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
   }
-  if (!advancesTheBody(proposal->plan.body_u) &&
-      steps_without_advance_ + 1 >= opt_.max_steps_without_advance) {
-    const int n = steps_without_advance_;
-    const std::string why = "the body has not advanced in " + std::to_string(n) +
-                            (n == 1 ? " step" : " steps") +
-                            " and would not in the next: no foothold lets it move on";
+  if (const auto why = noProgress(proposal->plan)) {
     // A scan held back for a plan ahead goes into the map all the same.
     if (unmapped_) mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
-    tasks_.fail(plan_task_, now_s, why);
-    suspend(now_s, "no step to propose: " + why, false);
+    tasks_.fail(plan_task_, now_s, *why);
+    suspend(now_s, "no step to propose: " + *why, false);
     return;
   }
   tasks_.finish(plan_task_, now_s);
@@ -472,6 +470,35 @@ void WalkExecutive::planAndPropose(double now_s) {
   proposal->id = next_proposal_++;
   if (product_sink_) product_sink_(now_s, "proposal", proposalRecord(*proposal));
   gate_.propose(std::move(*proposal), now_s);
+}
+
+std::optional<std::string> WalkExecutive::noProgress(const gait::StepPlan& next) const {
+  if (!advancesTheBody(next.body_u) &&
+      steps_without_advance_ + 1 >= opt_.max_steps_without_advance) {
+    const int n = steps_without_advance_;
+    return "the body has not advanced in " + std::to_string(n) + (n == 1 ? " step" : " steps") +
+           " and would not in the next: no foothold lets it move on";
+  }
+  if (int(recent_advance_.size()) < opt_.advance_window) return std::nullopt;
+  const double advanced = std::accumulate(recent_advance_.begin(), recent_advance_.end(), 0.0);
+  if (advanced >= opt_.min_window_advance) return std::nullopt;
+  std::ostringstream how_far;
+  how_far.precision(opt_.heading.isPointTurn() ? 1 : 3);
+  how_far << std::fixed;
+  if (opt_.heading.isPointTurn())
+    how_far << "turned " << advanced * 180.0 / M_PI << " deg";
+  else
+    how_far << "advanced " << advanced << " m";
+  return "the body has " + how_far.str() + " in the last " + std::to_string(opt_.advance_window) +
+         " steps: no foothold lets it move on";
+}
+
+double WalkExecutive::advanceAlongHeading(const gait::BodyPose& from,
+                                          const gait::BodyPose& to) const {
+  const auto& h = opt_.heading;
+  if (h.isPointTurn())
+    return std::remainder(to.heading_rad - from.heading_rad, 2 * M_PI) / h.turnPerUnit();
+  return (to.xy - from.xy).dot(from.rotation() * Eigen::Vector2d::UnitY());
 }
 
 // While the step's first command executes: the scan its plan went out
@@ -688,6 +715,11 @@ void WalkExecutive::finishStep(double now_s) {
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;
   step_.reported = report_.stance(ctx_.model)->body;
+  if (last_step_end_) {
+    recent_advance_.push_back(advanceAlongHeading(*last_step_end_, step_.reported));
+    if (int(recent_advance_.size()) > opt_.advance_window) recent_advance_.pop_front();
+  }
+  last_step_end_ = step_.reported;
   step_log_.push_back(step_);
   executing_.reset();
   ++steps_done_;

@@ -13,6 +13,7 @@
 // the planner.
 
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <optional>
 #include <string>
@@ -60,6 +61,13 @@ struct ExecutiveOptions {
   // trailing stack needs ground behind the rover that the scanner has not
   // seen). Six: every leg could have moved once.
   int max_steps_without_advance = 6;
+  // Nor one when the body, as the rover reports it, has advanced less than
+  // min_window_advance along the heading (u: metres; radians in a point
+  // turn) over the last advance_window steps: a foot re-placed back and
+  // forth, each time with a short body move that a body shift then undoes,
+  // advances every other step and goes nowhere. Twelve: every leg twice.
+  int advance_window = 12;
+  double min_window_advance = 0.1;
   Box2 map_extent{-10.0, -8.0, 10.0, 45.0};
   double map_resolution_m = 0.1;
   // Register each scan against the traverse map and correct the rover's
@@ -193,6 +201,11 @@ class WalkExecutive {
   // Whether a body move of `body_u` advances the body along the heading:
   // at least one of the planner's body steps.
   bool advancesTheBody(double body_u) const { return body_u >= ctx_.gait.body_step_m; }
+  // How far the body moved from `from` to `to` along the walk's heading, in
+  // its u (metres; radians in a point turn).
+  double advanceAlongHeading(const gait::BodyPose& from, const gait::BodyPose& to) const;
+  // Why no step should be proposed after this one, if so.
+  std::optional<std::string> noProgress(const gait::StepPlan& next) const;
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
@@ -240,6 +253,10 @@ class WalkExecutive {
   int steps_done_ = 0, planned_ahead_ = 0;
   int early_contacts_ = 0;  // in a row, since the last step done
   int steps_without_advance_ = 0;  // in a row, since the last resume
+  // Each step's advance along the heading since the last resume, the last
+  // advance_window of them, and where the last one ended (as reported).
+  std::deque<double> recent_advance_;
+  std::optional<gait::BodyPose> last_step_end_;
   // The next step, planned during this one from the stance it predicts.
   std::optional<gait::StepPlan> ahead_;
   gait::Stance ahead_from_;

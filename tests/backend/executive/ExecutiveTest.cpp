@@ -501,6 +501,46 @@ TEST(Executive, AFootThatGoesOnDownIsPlannedAgainNotCountedAsEarly) {
   EXPECT_NEAR(c.executive.map().elevation(cell->row, cell->col), felt[0].z(), 1e-6);
 }
 
+// Over the last `advance_window` steps the body must advance at least
+// `min_window_advance` along the heading, as the rover reports it, or the
+// walk suspends rather than propose another step (a foot re-placed back
+// and forth, each time with a short body move that a shift undoes). Here
+// three steps can never walk 50 m: the walk suspends once the window is
+// full, giving what the reports add up to.
+TEST(Executive, TooLittleAdvanceOverTheLastStepsSuspendsTheWalk) {
+  ExecutiveOptions o = steps(8);
+  o.advance_window = 3;
+  o.min_window_advance = 50.0;
+  Console c(o, ground(), withoutSlips());
+  c.gate.setMode(ApprovalMode::kAutoApprove);
+  c.executive.start(c.now);
+  const auto stopped = [&] {
+    return c.executive.phase() == Phase::kSuspended || c.executive.phase() == Phase::kDone;
+  };
+  for (int i = 0; i < 20 && !stopped(); ++i) c.pollUntil(stopped);
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  const std::string why = c.executive.suspendedBecause();
+  const auto at = why.find("the body has advanced ");
+  ASSERT_NE(at, std::string::npos) << why;
+  EXPECT_NE(why.find(" m in the last 3 steps: no foothold lets it move on"), std::string::npos)
+      << why;
+  // The window fills with the fourth step done (the first only sets where
+  // the count starts).
+  const auto& log = c.executive.stepLog();
+  ASSERT_EQ(log.size(), 4u);
+  double along = 0.0;
+  for (std::size_t i = 1; i < log.size(); ++i) {
+    const auto& a = log[i - 1].reported;
+    along += (log[i].reported.xy - a.xy).dot(a.rotation() * Eigen::Vector2d::UnitY());
+  }
+  EXPECT_GT(along, 0.3);
+  EXPECT_NEAR(std::stod(why.substr(at + 22)), along, 1e-3) << why;
+
+  c.executive.resume(c.now);  // the count starts again
+  c.pollUntil([&] { return c.executive.stepsDone() > 4 || stopped(); });
+  EXPECT_EQ(c.executive.stepsDone(), 5);
+}
+
 // A point turn soon needs footholds behind the rover that the scanner has
 // not seen, and the planner then re-places feet or shifts the body with
 // no advance. With a limit of two such steps in a row, the walk suspends
