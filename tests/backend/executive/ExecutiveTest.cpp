@@ -97,6 +97,15 @@ struct Console {
   void pollUntil(F done) {
     for (int i = 0; i < 200 && !done(); ++i) executive.poll(now += 0.05, 20ms);
   }
+  bool stopped() const {
+    return executive.phase() == Phase::kSuspended || executive.phase() == Phase::kDone;
+  }
+  // Auto-approved from the start until the walk suspends or ends.
+  void walkUntilItStops() {
+    gate.setMode(ApprovalMode::kAutoApprove);
+    executive.start(now);
+    for (int i = 0; i < 20 && !stopped(); ++i) pollUntil([&] { return stopped(); });
+  }
   void untilDecisionNeeded() {
     pollUntil([&] { return executive.phase() == Phase::kAwaitingDecision; });
     ASSERT_EQ(executive.phase(), Phase::kAwaitingDecision);
@@ -512,12 +521,7 @@ TEST(Executive, TooLittleAdvanceOverTheLastStepsSuspendsTheWalk) {
   o.advance_window = 3;
   o.min_window_advance = 50.0;
   Console c(o, ground(), withoutSlips());
-  c.gate.setMode(ApprovalMode::kAutoApprove);
-  c.executive.start(c.now);
-  const auto stopped = [&] {
-    return c.executive.phase() == Phase::kSuspended || c.executive.phase() == Phase::kDone;
-  };
-  for (int i = 0; i < 20 && !stopped(); ++i) c.pollUntil(stopped);
+  c.walkUntilItStops();
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   const std::string why = c.executive.suspendedBecause();
   const auto at = why.find("the body has advanced ");
@@ -537,7 +541,7 @@ TEST(Executive, TooLittleAdvanceOverTheLastStepsSuspendsTheWalk) {
   EXPECT_NEAR(std::stod(why.substr(at + 22)), along, 1e-3) << why;
 
   c.executive.resume(c.now);  // the count starts again
-  c.pollUntil([&] { return c.executive.stepsDone() > 4 || stopped(); });
+  c.pollUntil([&] { return c.executive.stepsDone() > 4 || c.stopped(); });
   EXPECT_EQ(c.executive.stepsDone(), 5);
 }
 
@@ -552,12 +556,7 @@ TEST(Executive, StepsThatNeverAdvanceTheBodySuspendTheWalk) {
   o.heading.radius_m = 0.0;  // turn left in place
   o.max_steps_without_advance = 2;
   Console c(o, ground(), withoutSlips());
-  c.gate.setMode(ApprovalMode::kAutoApprove);
-  c.executive.start(c.now);
-  const auto stopped = [&] {
-    return c.executive.phase() == Phase::kSuspended || c.executive.phase() == Phase::kDone;
-  };
-  for (int i = 0; i < 20 && !stopped(); ++i) c.pollUntil(stopped);
+  c.walkUntilItStops();
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_NE(c.executive.suspendedBecause().find("the body has not advanced in 1 step and"),
             std::string::npos)
@@ -572,7 +571,7 @@ TEST(Executive, StepsThatNeverAdvanceTheBodySuspendTheWalk) {
 
   const int done = c.executive.stepsDone();
   c.executive.resume(c.now);
-  c.pollUntil([&] { return c.executive.stepsDone() > done || stopped(); });
+  c.pollUntil([&] { return c.executive.stepsDone() > done || c.stopped(); });
   EXPECT_EQ(c.executive.stepsDone(), done + 1);
 }
 
