@@ -447,7 +447,7 @@ void WalkExecutive::planAndPropose(double now_s) {
     step_.plan_ms = 1e3 * secondsSince(t0);
     if (!fresh.ok) {
       tasks_.fail(plan_task_, now_s, fresh.reason);
-      suspend(now_s, "no step to propose: " + fresh.reason, false);
+      suspend(now_s, "no step to propose: " + fresh.reason + pointTurnHint(), false);
       return;
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
@@ -456,7 +456,7 @@ void WalkExecutive::planAndPropose(double now_s) {
     // A scan held back for a plan ahead goes into the map all the same.
     if (unmapped_) mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
     tasks_.fail(plan_task_, now_s, *why);
-    suspend(now_s, "no step to propose: " + *why, false);
+    suspend(now_s, "no step to propose: " + *why + pointTurnHint(), false);
     return;
   }
   tasks_.finish(plan_task_, now_s);
@@ -491,6 +491,15 @@ std::optional<std::string> WalkExecutive::noProgress(const gait::StepPlan& next)
     how_far << "advanced " << advanced << " m";
   return "the body has " + how_far.str() + " in the last " + std::to_string(opt_.advance_window) +
          " steps: no foothold lets it move on";
+}
+
+// In a point turn the inner stack recovers backwards, onto ground behind
+// the rover that the forward-looking scanner has not seen (docs/gait.md):
+// the likeliest reason a turn stops, and what the operator can do.
+std::string WalkExecutive::pointTurnHint() const {
+  if (!opt_.heading.isPointTurn()) return {};
+  return " (turning in place, the inner legs step back onto ground behind the rover, which the "
+         "scanner may not have seen: walk ahead first, or turn on a wide arc)";
 }
 
 double WalkExecutive::advanceAlongHeading(const gait::BodyPose& from,
