@@ -640,8 +640,10 @@ void WalkExecutive::afterMove(double now_s) {
     if (plan.foothold.z() - foot.z() > opt_.late_contact_m) {
       // The foot went on down to ground the map put higher and stands
       // there: the leg is placed, but the body move was checked for the
-      // planned height. Planned again from here; no early contact.
+      // planned height. Planned again from here; no early contact, but a
+      // foot placed with the body still, as the no-advance count has it.
       feelGround(foot);
+      ++steps_without_advance_;
       const std::string met = "leg " + std::to_string(plan.leg) + " met the ground " +
                               metres(plan.foothold.z() - foot.z()) + " below its foothold";
       planStepAgain(now_s, "late contact", met + " (late contact)", met + " (late contact)");

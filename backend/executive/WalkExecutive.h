@@ -253,7 +253,7 @@ class WalkExecutive {
   Phase phase_ = Phase::kIdle;
   int steps_done_ = 0, planned_ahead_ = 0;
   int early_contacts_ = 0;  // in a row, since the last step done
-  int steps_without_advance_ = 0;  // in a row, since the last resume
+  int steps_without_advance_ = 0;  // in a row (late contacts too), since the last resume
   // Each step's advance along the heading since the last resume, the last
   // advance_window of them, and where the last one ended (as reported).
   std::deque<double> recent_advance_;
