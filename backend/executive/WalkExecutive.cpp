@@ -73,7 +73,7 @@ void WalkExecutive::start(double now_s, bool end_hold) {
 void WalkExecutive::resume(double now_s) {
   if (phase_ != Phase::kSuspended) return;
   endHold(now_s);
-  early_contacts_ = 0;  // the operator asked for another try
+  early_contacts_ = late_contacts_ = 0;  // the operator asked for another try
   steps_without_advance_ = 0;
   recent_advance_.clear();
   last_step_end_.reset();
@@ -640,12 +640,18 @@ void WalkExecutive::afterMove(double now_s) {
     if (plan.foothold.z() - foot.z() > opt_.late_contact_m) {
       // The foot went on down to ground the map put higher and stands
       // there: the leg is placed, but the body move was checked for the
-      // planned height. Planned again from here; no early contact, but a
-      // foot placed with the body still, as the no-advance count has it.
+      // planned height. Planned again from here; no early contact.
       feelGround(foot);
-      ++steps_without_advance_;
       const std::string met = "leg " + std::to_string(plan.leg) + " met the ground " +
                               metres(plan.foothold.z() - foot.z()) + " below its foothold";
+      if (++late_contacts_ >= opt_.max_late_contacts) {
+        suspend(now_s,
+                met + ", late contact " + std::to_string(late_contacts_) +
+                    (late_contacts_ == 1 ? " time" : " times") +
+                    " in a row: the map puts the ground too high",
+                false);
+        return;
+      }
       planStepAgain(now_s, "late contact", met + " (late contact)", met + " (late contact)");
       return;
     }
@@ -721,7 +727,7 @@ void WalkExecutive::holdFeltGround(const Eigen::Vector3d& foot) {
 }
 
 void WalkExecutive::finishStep(double now_s) {
-  early_contacts_ = 0;
+  early_contacts_ = late_contacts_ = 0;
   steps_without_advance_ = advancesTheBody(step_.body_u) ? 0 : steps_without_advance_ + 1;
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;

@@ -54,6 +54,10 @@ struct ExecutiveOptions {
   // the walk suspends: the map misses what the foot meets, and planning
   // again from the same map meets it again.
   int max_early_contacts = 3;
+  // Late contacts in a row, with no step done between them, after which
+  // the walk suspends: the map puts the ground too high wherever the feet
+  // go (each places a leg, so without a limit they could go on for good).
+  int max_late_contacts = 3;
   // The walk suspends rather than propose a step that would make this many
   // in a row that do not advance the body along the heading (a foot
   // re-placed, a body shift): the legs find no footholds that let the body
@@ -253,7 +257,8 @@ class WalkExecutive {
   Phase phase_ = Phase::kIdle;
   int steps_done_ = 0, planned_ahead_ = 0;
   int early_contacts_ = 0;  // in a row, since the last step done
-  int steps_without_advance_ = 0;  // in a row (late contacts too), since the last resume
+  int late_contacts_ = 0;   // likewise
+  int steps_without_advance_ = 0;  // in a row, since the last resume
   // Each step's advance along the heading since the last resume, the last
   // advance_window of them, and where the last one ended (as reported).
   std::deque<double> recent_advance_;

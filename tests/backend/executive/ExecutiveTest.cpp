@@ -32,8 +32,8 @@ class CountingLink : public link::Link {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
     if (const auto* m = std::get_if<link::LegMove>(&c.body)) {
-      if (sunk_leg == m->leg) sink_next_leg_m = 0.0;  // lifts again: used up
-      sunk_leg = sink_next_leg_m > 0.0 ? std::optional<int>(m->leg) : std::nullopt;
+      sunk_m[std::size_t(m->leg)] = sink_next_leg_m;
+      if (!keep_sinking) sink_next_leg_m = 0.0;
     }
     if (const auto* m = std::get_if<link::LegMove>(&c.body); m && joints[std::size_t(m->leg)]) {
       const gait::LegJoints& at = *joints[std::size_t(m->leg)];
@@ -47,7 +47,7 @@ class CountingLink : public link::Link {
     auto in = inner_.receive(t);
     for (auto& m : in)
       if (auto* leg = std::get_if<link::LegState>(&m.body)) {
-        if (sunk_leg == leg->leg) leg->joints.vertical_m += sink_next_leg_m;
+        leg->joints.vertical_m += sunk_m[std::size_t(leg->leg)];
         joints[std::size_t(leg->leg)] = leg->joints;
       }
     std::erase_if(in, [&](const link::Telemetry& m) {
@@ -67,7 +67,8 @@ class CountingLink : public link::Link {
   // The next leg set down reports its sole this much lower for as long
   // as it stands: ground that the map put higher.
   double sink_next_leg_m = 0.0;
-  std::optional<int> sunk_leg;
+  bool keep_sinking = false;  // every leg set down, not only the next
+  std::array<double, gait::kLegCount> sunk_m{};
   int lose_images = 0;  // the first this many range images never arrive
   int images_lost = 0;
 
@@ -508,6 +509,39 @@ TEST(Executive, AFootThatGoesOnDownIsPlannedAgainNotCountedAsEarly) {
   const auto cell = c.executive.map().grid().cellAt(felt[0].x(), felt[0].y());
   ASSERT_TRUE(cell);
   EXPECT_NEAR(c.executive.map().elevation(cell->row, cell->col), felt[0].z(), 1e-6);
+}
+
+// A rover whose every foot goes on down below its foothold: each leg
+// placed is a late contact and the step is planned again, which the
+// proposal's own body move never reaches. Three in a row with no step
+// done suspend the walk, naming the leg and the depth, rather than let it
+// re-place feet for good.
+TEST(Executive, LateContactsInARowSuspendTheWalk) {
+  ExecutiveOptions o = steps(6);
+  Console c(o, ground(), withoutSlips());
+  c.link.sink_next_leg_m = 0.12;
+  c.link.keep_sinking = true;
+  c.walkUntilItStops();
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  const std::string why = c.executive.suspendedBecause();
+  EXPECT_NE(why.find("below its foothold, late contact 3 times in a row: the map puts the "
+                     "ground too high"),
+            std::string::npos)
+      << why;
+  EXPECT_EQ(c.link.count("LegMove"), 3);
+  // Each sole's height went into the map (one resting lower over an
+  // earlier one's centre replaced it).
+  const auto& felt = c.executive.feltGround();
+  ASSERT_FALSE(felt.empty());
+  for (const auto& foot : felt) {
+    const auto cell = c.executive.map().grid().cellAt(foot.x(), foot.y());
+    ASSERT_TRUE(cell);
+    EXPECT_GE(c.executive.map().elevation(cell->row, cell->col), foot.z() - 1e-6);
+  }
+
+  c.executive.resume(c.now);  // the count starts again
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  EXPECT_EQ(c.link.count("LegMove"), 6);
 }
 
 // Over the last `advance_window` steps the body must advance at least
