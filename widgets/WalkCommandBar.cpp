@@ -20,6 +20,8 @@ WalkCommandBar::WalkCommandBar(QWidget* parent)
     : QWidget(parent), steps_(new QSpinBox), path_(new QComboBox), radius_(new QDoubleSpinBox) {
   steps_->setRange(1, 1000);
   steps_->setSuffix(tr(" steps"));
+  connect(steps_, &QSpinBox::valueChanged, this,
+          [this](int n) { steps_->setSuffix(n == 1 ? tr(" step") : tr(" steps")); });
   steps_->setToolTip(tr("Steps of the next walk (each a leg move and a body move)"));
   // In the order of WalkCommand::Path.
   path_->addItems({tr("straight"), tr("arc left"), tr("arc right"), tr("turn left in place"),

@@ -15,6 +15,7 @@
 #include <QLabel>
 #include <QPushButton>
 #include <QSlider>
+#include <QSpinBox>
 #include <QStandardPaths>
 #include <QTabWidget>
 #include <QTableWidget>
@@ -410,7 +411,10 @@ class GroundStationTest : public QObject {
     QCOMPARE(bar->command().radius_m, 15.0);
     c.station.startWalk(2, ambler::gait::Heading{0.0, false});
     QCOMPARE(bar->command().path, Path::kTurnRight);
+    c.start(1);
+    QCOMPARE(bar->findChild<QSpinBox*>()->text(), QString("1 step"));
     c.start(9);
+    QCOMPARE(bar->findChild<QSpinBox*>()->text(), QString("9 steps"));
     QCOMPARE(bar->command().steps, 9);
     QCOMPARE(bar->command().path, Path::kStraight);
     QCOMPARE(bar->command().radius_m, 15.0);
