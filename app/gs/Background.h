@@ -2,6 +2,8 @@
 
 #include <sys/resource.h>
 #include <unistd.h>
+#include <QCoreApplication>
+#include <QThread>
 #include <QThreadPool>
 #include <QtConcurrent/QtConcurrentRun>
 
@@ -19,12 +21,20 @@ namespace ambler::gs {
 // Threads). The OpenMP threads it starts inherit the nice value.
 inline void runAtBackgroundPriority() { setpriority(PRIO_PROCESS, id_t(gettid()), 10); }
 
+// A thread waiting on a job not yet started runs it itself (Qt's
+// QFuture::waitForFinished): the GUI thread, or whichever thread handed it
+// over, keeps its priority then, since nice cannot be raised back without
+// privileges.
 template <typename F>
 auto runInBackground(QThreadPool* pool, F&& f) {
-  return QtConcurrent::run(pool, [f = std::forward<F>(f)]() mutable {
-    runAtBackgroundPriority();
-    return f();
-  });
+  return QtConcurrent::run(pool,
+                           [f = std::forward<F>(f), from = QThread::currentThread()]() mutable {
+                             const auto* app = QCoreApplication::instance();
+                             const QThread* here = QThread::currentThread();
+                             if (here != from && !(app && here == app->thread()))
+                               runAtBackgroundPriority();
+                             return f();
+                           });
 }
 
 template <typename F>

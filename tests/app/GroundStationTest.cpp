@@ -14,6 +14,7 @@
 #include <QFile>
 #include <QLabel>
 #include <QPushButton>
+#include <QSemaphore>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStandardPaths>
@@ -394,7 +395,18 @@ class GroundStationTest : public QObject {
     });
     team.waitForFinished();
     QCOMPARE(team.result(), 10);
-    QCOMPARE(nice(), 0);  // the GUI thread keeps its own
+    // A job the GUI thread takes over while waiting for it (the one pool
+    // thread is busy) runs at the GUI thread's own priority, and leaves it.
+    QThreadPool one;
+    one.setMaxThreadCount(1);
+    QSemaphore busy;
+    auto blocker = runInBackground(&one, [&] { busy.tryAcquire(1, 5000); });
+    auto taken = runInBackground(&one, [&] { return nice(); });
+    taken.waitForFinished();
+    busy.release();
+    blocker.waitForFinished();
+    QCOMPARE(taken.result(), 0);
+    QCOMPARE(nice(), 0);
   }
 
   // A walk started outside the toolbar (--walk, the soak) shows in it
