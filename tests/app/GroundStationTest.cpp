@@ -382,8 +382,10 @@ class GroundStationTest : public QObject {
   void backgroundWorkRunsAtNiceTen() {
     using ambler::gs::runInBackground;
     const auto nice = [] { return getpriority(PRIO_PROCESS, id_t(gettid())); };
+    // Waited for without waitForFinished(), which would run a job not yet
+    // started here, on the GUI thread (below).
     auto job = runInBackground([&] { return std::make_pair(nice(), sched_getscheduler(0)); });
-    job.waitForFinished();
+    QTRY_VERIFY(job.isFinished());
     QCOMPARE(job.result().first, 10);
     QCOMPARE(job.result().second, SCHED_OTHER);
     QThreadPool pool;
@@ -393,7 +395,7 @@ class GroundStationTest : public QObject {
       lowest = std::min(lowest, nice());
       return lowest;
     });
-    team.waitForFinished();
+    QTRY_VERIFY(team.isFinished());
     QCOMPARE(team.result(), 10);
     // A job the GUI thread takes over while waiting for it (the one pool
     // thread is busy) runs at the GUI thread's own priority, and leaves it.
