@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "app/gs/Background.h"
-
 #include "widgets/TerrainMeshPanel.h"
 
 namespace ambler::gs {

@@ -1,5 +1,6 @@
 #include "executive/WalkExecutive.h"
 
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
@@ -482,14 +483,13 @@ std::optional<std::string> WalkExecutive::noProgress(const gait::StepPlan& next)
   if (int(recent_advance_.size()) < opt_.advance_window) return std::nullopt;
   const double advanced = std::accumulate(recent_advance_.begin(), recent_advance_.end(), 0.0);
   if (advanced >= opt_.min_window_advance) return std::nullopt;
-  std::ostringstream how_far;
-  how_far.precision(opt_.heading.isPointTurn() ? 1 : 3);
-  how_far << std::fixed;
-  if (opt_.heading.isPointTurn())
-    how_far << "turned " << advanced * 180.0 / M_PI << " deg";
-  else
-    how_far << "advanced " << advanced << " m";
-  return "the body has " + how_far.str() + " in the last " + std::to_string(opt_.advance_window) +
+  std::string how_far = "advanced " + metres(advanced);
+  if (opt_.heading.isPointTurn()) {
+    std::ostringstream turned;
+    turned << "turned " << std::fixed << std::setprecision(1) << advanced * 180.0 / M_PI << " deg";
+    how_far = turned.str();
+  }
+  return "the body has " + how_far + " in the last " + std::to_string(opt_.advance_window) +
          " steps: no foothold lets it move on";
 }
 
@@ -641,34 +641,18 @@ void WalkExecutive::afterMove(double now_s) {
       // The foot went on down to ground the map put higher and stands
       // there: the leg is placed, but the body move was checked for the
       // planned height. Planned again from here; no early contact.
-      feelGround(foot);
       const std::string met = "leg " + std::to_string(plan.leg) + " met the ground " +
                               metres(plan.foothold.z() - foot.z()) + " below its foothold";
-      if (++late_contacts_ >= opt_.max_late_contacts) {
-        suspend(now_s,
-                met + ", late contact " + std::to_string(late_contacts_) +
-                    (late_contacts_ == 1 ? " time" : " times") +
-                    " in a row: the map puts the ground too high",
-                false);
-        return;
-      }
-      planStepAgain(now_s, "late contact", met + " (late contact)", met + " (late contact)");
+      metOtherGround(now_s, foot, "late contact", late_contacts_, opt_.max_late_contacts, met, met,
+                     "the map puts the ground too high");
       return;
     }
     if (short_by > opt_.early_contact_m) {
-      feelGround(foot);
       const std::string stopped =
           "leg " + std::to_string(plan.leg) + " stopped " + metres(short_by);
-      if (++early_contacts_ >= opt_.max_early_contacts) {
-        suspend(now_s,
-                stopped + " from its foothold, early contact " + std::to_string(early_contacts_) +
-                    (early_contacts_ == 1 ? " time" : " times") +
-                    " in a row: the map misses what the foot meets",
-                false);
-        return;
-      }
-      planStepAgain(now_s, "early contact", stopped + " from its foothold (early contact)",
-                    stopped + " short (early contact)");
+      metOtherGround(now_s, foot, "early contact", early_contacts_, opt_.max_early_contacts,
+                     stopped + " from its foothold", stopped + " short",
+                     "the map misses what the foot meets");
       return;
     }
   } else {
@@ -688,13 +672,25 @@ void WalkExecutive::afterMove(double now_s) {
   if (next_command_ == executing_->commands.size()) planAhead(now_s);
 }
 
-// The body has not moved: the step is planned again from the stance the
-// rover reports, after a scan.
-void WalkExecutive::planStepAgain(double now_s, const std::string& why, const std::string& what,
-                                  const std::string& because) {
-  tasks_.suspend(step_task_, now_s, why);
-  note(now_s, what + ": replanning");
-  replanned_because_ = because + ", replanned";
+// A foot met ground other than the map said (`kind`: an early or a late
+// contact): its height goes into the map and, the body not having moved,
+// the step is planned again from the stance the rover reports, after a
+// scan; `limit` such contacts in a row suspend the walk with `verdict`.
+void WalkExecutive::metOtherGround(double now_s, const Eigen::Vector3d& foot,
+                                   const std::string& kind, int& in_a_row, int limit,
+                                   const std::string& what, const std::string& because,
+                                   const std::string& verdict) {
+  feelGround(foot);
+  if (++in_a_row >= limit) {
+    suspend(now_s,
+            what + ", " + kind + " " + std::to_string(in_a_row) +
+                (in_a_row == 1 ? " time" : " times") + " in a row: " + verdict,
+            false);
+    return;
+  }
+  tasks_.suspend(step_task_, now_s, kind);
+  note(now_s, what + " (" + kind + "): replanning");
+  replanned_because_ = because + " (" + kind + "), replanned";
   executing_.reset();
   ahead_.reset();
   requestScan(now_s);

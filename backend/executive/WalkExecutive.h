@@ -238,8 +238,9 @@ class WalkExecutive {
   void afterMove(double now_s);
   void finishStep(double now_s);
   void suspend(double now_s, const std::string& why, bool hold);
-  void planStepAgain(double now_s, const std::string& why, const std::string& what,
-                     const std::string& because);
+  void metOtherGround(double now_s, const Eigen::Vector3d& foot, const std::string& kind,
+                      int& in_a_row, int limit, const std::string& what, const std::string& because,
+                      const std::string& verdict);
   void feelGround(const Eigen::Vector3d& foot);
   void holdFeltGround(const Eigen::Vector3d& foot);
   void note(double now_s, const std::string& what);
