@@ -68,7 +68,8 @@ void TerrainView::setRegisteredScans(const std::vector<std::vector<Eigen::Vector
 }
 
 // One colour per scan, in the order they came, so that where two overlap
-// the operator sees whether they agree.
+// the operator sees whether they agree; single pixels, so that the
+// surface's colours, which the colour bar explains, show between them.
 void TerrainView::addRegisteredScans() {
   if (!show_points_->isChecked()) return;
   static const std::array<std::array<double, 3>, 6> kColours{{{1.0, 0.55, 0.1},
@@ -79,7 +80,7 @@ void TerrainView::addRegisteredScans() {
                                                               {0.6, 0.6, 1.0}}};
   for (std::size_t i = 0; i < registered_.size(); ++i) {
     const auto& c = kColours[i % kColours.size()];
-    addTo(kOverlay, rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 2.0f));
+    addTo(kOverlay, rendering::makePointCloud(registered_[i], {c[0], c[1], c[2]}, 1.0f));
   }
 }
 

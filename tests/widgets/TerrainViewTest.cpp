@@ -1,0 +1,114 @@
+// Widget test of the 3-D view as an operator sees it; needs a display
+// (xvfb-run).
+#include <QApplication>
+#include <QCheckBox>
+#include <QImage>
+#include <QSurfaceFormat>
+#include <QtTest/QtTest>
+#include <cstdlib>
+#include <vector>
+
+#include "rendering/VtkView.h"
+#include "widgets/TerrainView.h"
+
+using ambler::GridSpec;
+using ambler::rendering::VtkView;
+using ambler::terrain::CellState;
+using ambler::terrain::ElevationMap;
+using ambler::widgets::RoverDisplay;
+using ambler::widgets::TerrainView;
+
+namespace {
+
+int distance(const QColor& a, const QColor& b) {
+  return std::abs(a.red() - b.red()) + std::abs(a.green() - b.green()) +
+         std::abs(a.blue() - b.blue());
+}
+
+// Pixels that drawing something over `under` changed (`drawn`), and, within
+// its footprint (a drawn pixel at most 2 px away), those of the surface
+// (saturated viridis, unlike the grey-blue background) and of them the
+// ones left as they were.
+struct Coverage {
+  int drawn = 0, surface = 0, surface_seen = 0;
+};
+
+Coverage coverage(const QImage& under, const QImage& over) {
+  const int w = over.width(), h = over.height();
+  Coverage out;
+  std::vector<char> changed(std::size_t(w) * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      out.drawn += changed[std::size_t(y) * w + x] =
+          distance(over.pixelColor(x, y), under.pixelColor(x, y)) >= 30;
+  for (int y = 2; y < h - 2; ++y)
+    for (int x = 2; x < w - 2; ++x) {
+      if (under.pixelColor(x, y).hsvSaturationF() < 0.3) continue;
+      bool near_drawn = false;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) near_drawn |= changed[std::size_t(y + dy) * w + x + dx];
+      if (!near_drawn) continue;
+      ++out.surface;
+      out.surface_seen += !changed[std::size_t(y) * w + x];
+    }
+  return out;
+}
+
+}  // namespace
+
+class TerrainViewTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  // A walk's registered scans lie over its map in the 3-D view. The
+  // operator sees the scan's points and, between them, the map's colours,
+  // which the colour bar explains: dots 2 px wide hid most of the surface
+  // under one orange.
+  void registeredScansLetTheMapShowThrough() {
+    // Heights rise with x: the map's colours run across the colour bar.
+    ElevationMap map(GridSpec::covering({-6, -2, 6, 14}, 0.1));
+    const auto& g = map.grid();
+    for (int r = 0; r < g.rows; ++r)
+      for (int c = 0; c < g.cols; ++c)
+        map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+    std::vector<Eigen::Vector3d> scan;
+    for (double y = 2.0; y < 8.0; y += 0.1)  // 10 cm apart, as a walking scan 5-10 m out
+      for (double x = -3.0; x < 3.0; x += 0.1) scan.push_back({x, y, 0.05 * x + 0.01});
+
+    TerrainView view;
+    view.resize(640, 480);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    view.setMap(map);
+    view.setRover(RoverDisplay{}, {}, std::nullopt);  // places the camera behind the rover
+    view.setRegisteredScans({scan});
+    auto* points = view.findChild<QCheckBox*>();
+    QVERIFY(points && points->text().contains("Scan points"));
+
+    points->setChecked(false);
+    QTest::qWait(50);  // the rebuild is queued
+    const QImage map_only = view.view()->renderedImage();
+    points->setChecked(true);
+    QTest::qWait(50);
+    const QImage with_scan = view.view()->renderedImage();
+    QCOMPARE(with_scan.size(), map_only.size());
+
+    const Coverage seen = coverage(map_only, with_scan);
+    QVERIFY2(seen.surface > 10000, qPrintable(QString::number(seen.surface)));
+    // The scan is there to see...
+    QVERIFY2(seen.drawn > 3000, qPrintable(QString::number(seen.drawn)));
+    // ...and much of the map between its points (59 % here; 27 % under
+    // dots 2 px wide).
+    QVERIFY2(seen.surface_seen > 0.45 * seen.surface,
+             qPrintable(QString("%1 of %2 pixels").arg(seen.surface_seen).arg(seen.surface)));
+  }
+};
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(VtkView::defaultFormat());
+  QApplication app(argc, argv);
+  TerrainViewTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "TerrainViewTest.moc"
