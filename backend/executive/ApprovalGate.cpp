@@ -10,7 +10,10 @@ namespace ambler::executive {
 
 StepProposal makeProposal(std::uint64_t id, const gait::Stance& from, gait::StepPlan plan,
                           const terrain::ElevationMap& map, const gait::GaitContext& context) {
-  StepProposal p{id, from, std::move(plan), {}, {}};
+  StepProposal p;
+  p.id = id;
+  p.from = from;
+  p.plan = std::move(plan);
   p.commands = stepCommands(p.plan, from);
   p.interlocks = checkInterlocks(p.plan, from, p.commands, map, context);
   if (p.plan.leg >= 0 && p.plan.recovery.found)

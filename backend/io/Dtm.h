@@ -13,7 +13,7 @@ namespace ambler::io {
 // The part of a digital terrain model to load, on the simulator's grid.
 struct DtmWindow {
   // In the DTM's projected coordinates [m]; default: the raster's centre.
-  std::optional<Eigen::Vector2d> centre;
+  std::optional<Eigen::Vector2d> centre{};
   double width = 0.0;       // east-west [m]; 0: the whole raster
   double height = 0.0;      // north-south [m]; 0: the whole raster
   double resolution = 0.0;  // cell size [m]; 0: the DTM's own pixel size

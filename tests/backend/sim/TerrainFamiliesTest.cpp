@@ -36,7 +36,9 @@ TEST(RockField, AreaCoveredFollowsGolombekRapp) {
     EXPECT_NEAR(covered_02 / area, expected(0.2), 0.1 * expected(0.2)) << "k " << k;
     EXPECT_NEAR(covered_05 / area, expected(0.5), 0.15 * expected(0.5)) << "k " << k;
     // At 5 % the pooled fields hold a handful of metre-sized rocks.
-    if (k > 0.1) EXPECT_NEAR(covered_1 / area, expected(1.0), 0.3 * expected(1.0)) << "k " << k;
+    if (k > 0.1) {
+      EXPECT_NEAR(covered_1 / area, expected(1.0), 0.3 * expected(1.0)) << "k " << k;
+    }
   }
 }
 
