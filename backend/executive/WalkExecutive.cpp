@@ -2,7 +2,6 @@
 
 #include <iomanip>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <sstream>
 #include <utility>
 
@@ -76,8 +75,7 @@ void WalkExecutive::resume(double now_s) {
   endHold(now_s);
   early_contacts_ = late_contacts_ = 0;  // the operator asked for another try
   steps_without_advance_ = 0;
-  recent_advance_.clear();
-  last_step_end_.reset();
+  window_from_ = step_log_.size();
   if (steps_done_ >= opt_.steps) {
     note(now_s, "resumed: the closing scan again");
     requestClosingScan(now_s);
@@ -480,8 +478,12 @@ std::optional<std::string> WalkExecutive::noProgress(const gait::StepPlan& next)
     return "the body has not advanced in " + std::to_string(n) + (n == 1 ? " step" : " steps") +
            " and would not in the next: no foothold lets it move on";
   }
-  if (int(recent_advance_.size()) < opt_.advance_window) return std::nullopt;
-  const double advanced = std::accumulate(recent_advance_.begin(), recent_advance_.end(), 0.0);
+  // The window's advance_window steps, each from where the one before ended.
+  const std::size_t n = step_log_.size(), window = std::size_t(opt_.advance_window);
+  if (n < window_from_ + window + 1) return std::nullopt;
+  double advanced = 0.0;
+  for (std::size_t i = n - window; i < n; ++i)
+    advanced += advanceAlongHeading(step_log_[i - 1].reported, step_log_[i].reported);
   if (advanced >= opt_.min_window_advance) return std::nullopt;
   std::string how_far = "advanced " + metres(advanced);
   if (opt_.heading.isPointTurn()) {
@@ -728,11 +730,6 @@ void WalkExecutive::finishStep(double now_s) {
   tasks_.finish(step_task_, now_s);
   step_.estimated = reported_->body;
   step_.reported = report_.stance(ctx_.model)->body;
-  if (last_step_end_) {
-    recent_advance_.push_back(advanceAlongHeading(*last_step_end_, step_.reported));
-    if (int(recent_advance_.size()) > opt_.advance_window) recent_advance_.pop_front();
-  }
-  last_step_end_ = step_.reported;
   step_log_.push_back(step_);
   executing_.reset();
   ++steps_done_;

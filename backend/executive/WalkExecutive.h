@@ -13,7 +13,6 @@
 // the planner.
 
 #include <chrono>
-#include <deque>
 #include <functional>
 #include <optional>
 #include <string>
@@ -260,10 +259,9 @@ class WalkExecutive {
   int early_contacts_ = 0;  // in a row, since the last step done
   int late_contacts_ = 0;   // likewise
   int steps_without_advance_ = 0;  // in a row, since the last resume
-  // Each step's advance along the heading since the last resume, the last
-  // advance_window of them, and where the last one ended (as reported).
-  std::deque<double> recent_advance_;
-  std::optional<gait::BodyPose> last_step_end_;
+  // The first step of step_log_ whose reported end counts for the advance
+  // window: none before the last resume.
+  std::size_t window_from_ = 0;
   // The next step, planned during this one from the stance it predicts.
   std::optional<gait::StepPlan> ahead_;
   gait::Stance ahead_from_;
