@@ -8,65 +8,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "terrain/LocusTables.h"
+#include "terrain/PixelTable.h"
+
 namespace ambler::terrain {
 
 namespace {
 
 using sensor::RangeImage;
-
-// Surfaces steeper than 75 degrees are faces: the height of a cell on them is
-// undetermined.
-constexpr double kSteepFaceCos = 0.26;
-
-// A monotonic function of one variable tabulated at 4096 intervals and
-// interpolated linearly: the inverse trigonometric functions that map a
-// direction to an image row or column are the most expensive steps of
-// following a locus. Empty (and unused) unless it matches the function to
-// 1e-4 pixel everywhere.
-class PixelTable {
- public:
-  PixelTable() = default;
-  template <typename F>
-  PixelTable(double x_first, double x_last, F pixel_of) {
-    const int intervals = 4096;
-    first_ = x_first;
-    step_ = (x_last - x_first) / intervals;
-    inverse_step_ = 1.0 / step_;
-    intervals_ = intervals;
-    std::vector<double> values;
-    for (int i = 0; i <= intervals; ++i) values.push_back(pixel_of(first_ + i * step_));
-    for (int i = 0; i < intervals; ++i)
-      if (!(std::abs(0.5 * (values[i] + values[i + 1]) - pixel_of(first_ + (i + 0.5) * step_)) <=
-            1e-4))
-        return;
-    for (int i = 0; i < intervals; ++i)
-      intervals_table_.push_back({values[i], values[i + 1] - values[i]});
-  }
-  bool empty() const { return intervals_table_.empty(); }
-  // NaN outside the table.
-  double operator()(double x) const {
-    const double f = (x - first_) * inverse_step_;
-    if (!(f >= 0 && f < intervals_)) return NAN;
-    const int i = int(f);
-    return intervals_table_[i].value + (f - i) * intervals_table_[i].rise;
-  }
-  // Beyond the table: extrapolated from the interval at the nearer end,
-  // which is enough to say on which side of the table x is.
-  double extrapolated(double x) const {
-    const double f = (x - first_) * inverse_step_;
-    const int i = f < 0 ? 0 : int(intervals_) - 1;
-    return intervals_table_[i].value + (f - i) * intervals_table_[i].rise;
-  }
-
- private:
-  double first_ = 0.0, step_ = 0.0, inverse_step_ = 0.0, intervals_ = 0.0;
-  // Per interval, the value at its start and the rise across it: one load
-  // of 16 bytes and no subtraction on the way to a column.
-  struct Interval {
-    double value, rise;
-  };
-  std::vector<Interval> intervals_table_;
-};
 
 // The vertical world line through (x, y) in the sensor frame: a + t b, where
 // t is the world height of the point [m].
@@ -188,7 +137,7 @@ class LocusSolver {
 
   // Median world height of the image's points (every 4th row and column):
   // where the search of the first cell of each map row starts.
-  double typicalHeight() const { return typical_height_; }
+  double typicalHeight() const { return tables_.typicalHeight(); }
 
   // Starts the search at image row `row_hint`, where the neighbouring
   // cell's line met the surface, or if that is NaN where the line is at
@@ -222,55 +171,28 @@ class LocusSolver {
   CellState hiddenBelowFreeSpace(RowSample n, double hidden_t, double& stop_t) const;
   HeightNoise sigmaOfHeight(const Line& line, Bracket& br, double u, double col,
                             int quad_col) const;
-  double samplingSigma(int quad_row, int quad_col) const {
-    return sampling_sigma_[std::size_t(quad_row) * (g_.cols - 1) + quad_col];
-  }
-  bool isSteepFace(int quad_row, int quad_col) const {
-    return steep_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
-  }
-  void tabulateSteepFaces();
-  void tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge);
-  // The least-squares plane z = f(x, y) of the 3 x 3 pixels of 2 x 2
-  // quads: whether they lie on it within their noise, each pixel's offset
-  // from it, and the sigma of such an offset [m].
-  struct BlockPlane {
-    bool planar = false;
-    std::array<float, 9> offset{};
-    double offset_noise = 0;
-  };
-  BlockPlane fitBlockPlane(int r, int c) const;
-  // z00 - z01 - z10 + z11 of quad (r, c)'s pixels: small against their
-  // height range on a plane, as large on a bump.
-  double quadTwist(int r, int c) const {
-    const std::size_t p = std::size_t(r) * g_.cols + c, q = p + g_.cols;
-    return world_[p].z() - world_[p + 1].z() - world_[q].z() + world_[q + 1].z();
-  }
   struct Jump;
   Jump jumpAt(int quad_row, double col) const;
   bool isUndecided(const Line& line, int quad_row, double col) const;
   double shadowFarEndFrom(const Jump& jump) const;
-  double reachAt(int row, int col) const { return across_[std::size_t(row) * g_.cols + col]; }
+  double reachAt(int row, int col) const {
+    return tables_.reach()[std::size_t(row) * g_.cols + col];
+  }
   // The horizontal distance from the sensor to the line, whose foot is the
   // sensor's origin plus the turned a.
   double reachOf(const Line& line) const {
     return (world_to_sensor_.transpose() * line.a).head<2>().norm();
   }
-  bool isSparse(int quad_row, int quad_col) const {
-    return sparse_[std::size_t(quad_row) * (g_.cols - 1) + quad_col] != 0;
-  }
-  void markSparseQuads(double max_spacing_m);
-  void findBorderGround();
-  bool hasReturn(int r, int c) const { return image_.hasReturn(r, c); }
   double columnOf(double tan_theta) const;
   double rowOf(double y, double z) const;
 
   const RangeImage& image_;
+  const LocusTables tables_;
   const OccludingEdges& edges_;
   const sensor::ScanGeometry& g_;
   double undecided_steps_ = 0.0;  // LocusOptions::undecided_before_shadow
   double far_end_share_ = 0.0;    // LocusOptions::undecided_shadow_far_end
   double cos_crest_ = 1.0;        // cos(LocusOptions::crest_max_angle_deg)
-  double typical_height_ = 0.0;  // see typicalHeight() [m]
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
   std::vector<double> sin_phi_, cos_phi_;  // per scanline
@@ -279,12 +201,9 @@ class LocusSolver {
   // NaN for a scanline whose plane holds b: every line point on it is NaN,
   // and so off the image, without a test.
   std::vector<double> inverse_den_;
-  // The image's ranges with NaN where a pixel has no return, so that an
-  // interpolation that uses such a pixel is NaN without a test.
-  std::vector<double> range_;
-  double farthest_return_ = 0.0;        // the sensor reaches at least this far [m]
-  std::vector<Eigen::Vector3f> world_;  // per pixel point, NaN without a return
-  std::vector<float> across_;           // per pixel, horizontal distance from the sensor [m]
+  // The image's ranges with NaN where a pixel has no return
+  // (LocusTables::ranges()).
+  const double* range_ = nullptr;
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
   std::vector<double> sin_half_, cos_half_;
@@ -295,93 +214,29 @@ class LocusSolver {
   double sin_mid_ = 0.0, cos_mid_ = 1.0;
   PixelTable row_table_;
   double last_col_ = 0.0;  // the image's right border, cols - 0.5
-  // Per quad: its normal is steeper than kSteepFaceCos (tabulateSteepFaces()).
-  std::vector<std::uint8_t> steep_;
-  // Per quad: the sampling part of a cell's height sigma [m] (tabulateSamplingSigma()).
-  std::vector<double> sampling_sigma_;
-  // Per quad: its scanlines meet the ground farther apart than the limit.
-  std::vector<std::uint8_t> sparse_;
-  // Per image column, for the first and the last scanline: the horizontal
-  // distance from the sensor at which it meets the ground [m], NaN where the
-  // whole border has no ground (findBorderGround()).
-  std::array<std::vector<double>, 2> border_reach_;
-  // Per image column, for the first and the last scanline, the stretch
-  // beyond the border's own ground: from its reach (as in border_reach_)
-  // to one scanline step beyond, over the pixel's footprint, which the
-  // scan saw but did not sample. NaN without own ground.
-  std::array<std::vector<double>, 2> border_own_from_, border_own_to_;
 };
 
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
                          const LocusOptions& options)
     : image_(image),
+      tables_(image, edges, options.max_sample_spacing_m),
       edges_(edges),
       g_(image.geometry),
       undecided_steps_(options.undecided_before_shadow),
       far_end_share_(options.undecided_shadow_far_end),
       cos_crest_(std::cos(options.crest_max_angle_deg * M_PI / 180)),
+      sin_phi_(tables_.sinPhi()),
+      cos_phi_(tables_.cosPhi()),
+      range_(tables_.ranges().data()),
       column_table_(columnTable(image.geometry)),
       row_table_(rowTable(image.geometry)) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
   b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
   origin_ = image.sensor_to_world.translation();
   for (int r = 0; r < g_.rows; ++r) {
-    sin_phi_.push_back(std::sin(g_.phi(r)));
-    cos_phi_.push_back(std::cos(g_.phi(r)));
-    const double den = b_.z() * cos_phi_.back() - b_.y() * sin_phi_.back();
+    const double den = b_.z() * cos_phi_[r] - b_.y() * sin_phi_[r];
     inverse_den_.push_back(std::abs(den) < 1e-12 ? NAN : 1.0 / den);
   }
-  range_.assign(std::size_t(g_.rows) * g_.cols, NAN);
-  for (int r = 0; r < g_.rows; ++r)
-    for (int c = 0; c < g_.cols; ++c)
-      if (hasReturn(r, c)) {
-        range_[std::size_t(r) * g_.cols + c] = image_.at(r, c);
-        farthest_return_ = std::max(farthest_return_, double(image_.at(r, c)));
-      }
-  // Every pixel's point in the world (eq. 1 and the pose), from the
-  // per-row and per-column sines instead of three sin/cos per pixel.
-  const Eigen::Matrix3d rotation = image.sensor_to_world.linear();
-  world_.assign(std::size_t(g_.rows) * g_.cols, Eigen::Vector3f::Constant(NAN));
-  for (int c = 0; c < g_.cols; ++c) {
-    const double st = std::sin(g_.theta(c)), ct = std::cos(g_.theta(c));
-    for (int r = 0; r < g_.rows; ++r)
-      if (hasReturn(r, c)) {
-        const Eigen::Vector3d direction(st, cos_phi_[r] * ct, sin_phi_[r] * ct);
-        world_[std::size_t(r) * g_.cols + c] =
-            (origin_ + image.at(r, c) * (rotation * direction)).cast<float>();
-      }
-  }
-  across_.resize(world_.size());
-  for (std::size_t i = 0; i < world_.size(); ++i)
-    across_[i] = (world_[i].head<2>() - origin_.head<2>().cast<float>()).norm();
-  std::vector<double> z;
-  for (int r = 0; r < g_.rows; r += 4)
-    for (int c = 0; c < g_.cols; c += 4)
-      if (hasReturn(r, c)) z.push_back(world_[std::size_t(r) * g_.cols + c].z());
-  typical_height_ = origin_.z();
-  if (!z.empty()) {
-    std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-    typical_height_ = z[z.size() / 2];
-  }
-  // The edge quads dilated by one quad, along rows and then along columns.
-  const int quad_rows = g_.rows - 1, quad_cols = g_.cols - 1;
-  std::vector<std::uint8_t> across(std::size_t(quad_rows) * quad_cols, 0);
-  for (int r = 0; r < quad_rows; ++r)
-    for (int c = 0; c < quad_cols; ++c)
-      across[std::size_t(r) * quad_cols + c] = edges.quadIsEdge(r, std::max(c - 1, 0)) ||
-                                               edges.quadIsEdge(r, c) ||
-                                               edges.quadIsEdge(r, std::min(c + 1, quad_cols - 1));
-  std::vector<std::uint8_t> near_edge(across.size(), 0);
-  for (int r = 0; r < quad_rows; ++r)
-    for (int c = 0; c < quad_cols; ++c) {
-      const std::size_t i = std::size_t(r) * quad_cols + c;
-      near_edge[i] = across[i] || across[std::size_t(std::max(r - 1, 0)) * quad_cols + c] ||
-                     across[std::size_t(std::min(r + 1, quad_rows - 1)) * quad_cols + c];
-    }
-  tabulateSteepFaces();
-  tabulateSamplingSigma(near_edge);
-  markSparseQuads(options.max_sample_spacing_m);
-  findBorderGround();
   last_col_ = g_.cols - 0.5;
   sin_mid_ = std::sin(g_.phi((g_.rows - 1) / 2.0));
   cos_mid_ = std::cos(g_.phi((g_.rows - 1) / 2.0));
@@ -516,7 +371,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
 // A row sample on the image whose nearest pixel has no return, nearer than
 // the sensor reaches: the ray went past the line point without a hit.
 bool LocusSolver::passesInFreeSpace(const RowSample& n) const {
-  if (!n.at.on_image || !(n.at.rho < farthest_return_)) return false;
+  if (!n.at.on_image || !(n.at.rho < tables_.farthestReturn())) return false;
   const int c = std::clamp(int(n.at.col + 0.5), 0, g_.cols - 1);
   return std::isnan(range_[std::size_t(n.row) * g_.cols + c]);
 }
@@ -589,9 +444,9 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   end.z = s.at.t;
   const int c = std::clamp(int(s.at.col + 0.5), 0, g_.cols - 1);
   const int b = s.row == 0 ? 0 : 1;
-  const double border = border_reach_[b][std::size_t(c)];
+  const double border = tables_.borderReach(b)[std::size_t(c)];
   if (std::isnan(border))
-    return s.at.t > typical_height_ ? CellState::kShadow : CellState::kUnknown;
+    return s.at.t > tables_.typicalHeight() ? CellState::kShadow : CellState::kUnknown;
   const double reach = reachOf(line);
   if (!(reach < border)) return CellState::kUnknown;
   // Beyond the border pixels' own ground, up to where the next scanline
@@ -599,100 +454,11 @@ CellState LocusSolver::walk(const Line& line, int down, int row, Bracket& bracke
   // hidden, the ground may as well go on in view: undecided. Between the two
   // columns around the line, whose ground the image interpolates.
   const int c0 = std::clamp(int(std::floor(s.at.col)), 0, g_.cols - 2);
-  const auto& from = border_own_from_[b];
-  const auto& to = border_own_to_[b];
+  const auto& from = tables_.borderOwnFrom(b);
+  const auto& to = tables_.borderOwnTo(b);
   end.undecided = reach >= std::min(from[std::size_t(c0)], from[std::size_t(c0) + 1]) &&
                   reach < std::max(to[std::size_t(c0)], to[std::size_t(c0) + 1]);
   return CellState::kShadow;
-}
-
-// Where each border scanline meets the ground, column by column: the
-// border pixel's horizontal reach where it and the pixel two scanlines in
-// are ground (returns, in quads that are neither occluding edges nor steep
-// faces), less two standard deviations of its range noise; a column without
-// ground takes that of the nearest column with ground on the same surface.
-// The border splits into surfaces where neighbouring columns are across
-// an occluding edge. A surface nearer than the surfaces on both its sides
-// (on the one side at the image's edge) is an obstacle standing up into
-// the last scanline, its top say: what it hides lies before the ground
-// beside it, whose reach it takes, interpolated across it from one side
-// to the other.
-void LocusSolver::findBorderGround() {
-  const int cols = g_.cols;
-  const double k = image_.range_sigma_k;
-  for (int b = 0; b < 2; ++b) {
-    auto& reach = border_reach_[std::size_t(b)];
-    reach.assign(std::size_t(cols), NAN);
-    auto& own_from = border_own_from_[std::size_t(b)];
-    auto& own_to = border_own_to_[std::size_t(b)];
-    own_from.assign(std::size_t(cols), NAN);
-    own_to.assign(std::size_t(cols), NAN);
-    if (g_.rows < 3 || cols < 2) continue;
-    const int border = b == 0 ? 0 : g_.rows - 1, in = b == 0 ? 2 : g_.rows - 3;
-    for (int c = 0; c < cols; ++c) {
-      const int qc = std::min(c, cols - 2);
-      bool ground = true;
-      for (int r = std::min(border, in); r <= std::max(border, in); ++r)
-        ground = ground && hasReturn(r, qc) && hasReturn(r, qc + 1);
-      for (int qr = std::min(border, in); ground && qr < std::max(border, in); ++qr)
-        ground = !edges_.quadIsEdge(qr, qc) && !isSteepFace(qr, qc);
-      if (!ground) continue;
-      const double rho = image_.at(border, c);
-      const double noise = 2 * k * rho * rho;
-      const double across = reachAt(border, c);
-      reach[std::size_t(c)] = own_from[std::size_t(c)] = across - noise;
-      const double step = across - reachAt(border == 0 ? 1 : border - 1, c);
-      own_to[std::size_t(c)] = across + std::max(step, 0.0) + noise;
-    }
-    // The surfaces: runs of columns [first, last] with continuous ranges.
-    auto continuous = [&](int c) {  // columns c and c + 1
-      return hasReturn(border, c) && hasReturn(border, c + 1) && !edges_.rightPairIsEdge(border, c);
-    };
-    struct Surface {
-      int first, last;
-    };
-    std::vector<Surface> surfaces;
-    for (int c = 0; c < cols; ++c)
-      if (c == 0 || !continuous(c - 1))
-        surfaces.push_back({c, c});
-      else
-        surfaces.back().last = c;
-    // Within a surface, columns without ground take the nearest ground's
-    // reach (the left one on a tie): the nearest ground column to the left,
-    // then to the right, each found in one pass.
-    const auto ground = reach;
-    const auto hasGround = [&](int c) { return !std::isnan(ground[std::size_t(c)]); };
-    std::vector<int> left(std::size_t(cols), -1);
-    for (const auto& f : surfaces)
-      for (int c = f.first, last = -1; c <= f.last; ++c)
-        left[std::size_t(c)] = last = hasGround(c) ? c : last;
-    for (const auto& f : surfaces)
-      for (int c = f.last, right = -1; c >= f.first; --c) {
-        right = hasGround(c) ? c : right;
-        const int l = left[std::size_t(c)];
-        const int nearest = l >= 0 && (right < 0 || c - l <= right - c) ? l : right;
-        if (nearest >= 0) reach[std::size_t(c)] = ground[std::size_t(nearest)];
-      }
-    const auto own = reach;
-    auto nearerThan = [&](int c, int beside) {  // column c's range below its neighbour's
-      return hasReturn(border, c) &&
-             (!hasReturn(border, beside) || image_.at(border, c) < image_.at(border, beside));
-    };
-    for (std::size_t i = 0; i < surfaces.size(); ++i) {
-      const auto& f = surfaces[i];
-      const bool left = i > 0, right = i + 1 < surfaces.size();
-      if (!left && !right) continue;
-      if ((left && !nearerThan(f.first, f.first - 1)) || (right && !nearerThan(f.last, f.last + 1)))
-        continue;
-      // The ground beside it, across it from one side to the other.
-      const double a = left ? own[std::size_t(f.first - 1)] : NAN;
-      const double z = right ? own[std::size_t(f.last + 1)] : NAN;
-      for (int c = f.first; c <= f.last; ++c) {
-        const double w = double(c - f.first + 1) / (f.last - f.first + 2);
-        reach[std::size_t(c)] = std::isnan(a) ? z : std::isnan(z) ? a : a + w * (z - a);
-      }
-    }
-  }
 }
 
 // Binary search on phi between the bracketing scanlines (krotkov1989
@@ -772,9 +538,10 @@ CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u
         (undecided_steps_ > 0 || far_end_share_ > 0) && isUndecided(line, quad_row, col);
     return shadow;
   }
-  if (isSteepFace(quad_row, quad_col) || isSparse(quad_row, quad_col)) return {CellState::kUnknown};
+  if (tables_.isSteepFace(quad_row, quad_col) || tables_.isSparse(quad_row, quad_col))
+    return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
-  const double sampling = samplingSigma(quad_row, quad_col);
+  const double sampling = tables_.samplingSigma(quad_row, quad_col);
   const auto state =
       edges_.quadIsGrazing(quad_row, quad_col) ? CellState::kOblique : CellState::kKnown;
   return {state, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
@@ -835,8 +602,9 @@ double LocusSolver::shadowFarEndFrom(const Jump& jump) const {
   const int prev = jump.near - jump.dir, far = jump.near + jump.dir, far2 = far + jump.dir;
   if (far2 < 0 || far2 >= g_.rows || prev < 0 || prev >= g_.rows) return INFINITY;
   auto at = [&](int r) {
-    return Eigen::Vector2d(reachAt(r, jump.column),
-                           world_[std::size_t(r) * g_.cols + jump.column].z() - origin_.z());
+    return Eigen::Vector2d(
+        reachAt(r, jump.column),
+        tables_.world()[std::size_t(r) * g_.cols + jump.column].z() - origin_.z());
   };
   const Eigen::Vector2d last = at(jump.near), segment = last - at(prev);
   // NaN fails the test: no bound.
@@ -848,35 +616,6 @@ double LocusSolver::shadowFarEndFrom(const Jump& jump) const {
   const double ray_end = std::clamp(s * last.x(), last.x(), first.x());
   if (!std::isfinite(ray_end)) return INFINITY;
   return first.x() - far_end_share_ * (first.x() - ray_end);
-}
-
-// krotkov1989 §3.2, note 5: far off, a shadow may be no larger than the
-// distance between data points, and the interpolation then spans it as if
-// it were ground. A quad whose scanlines meet the ground farther apart than
-// `max_spacing_m` (horizontally, at either of its columns) is sparse: what
-// lies between its samples is not known. The spacing is the mean step over
-// four scanlines around the quad, less three standard deviations of the
-// range noise in that mean, so that noise does not make dense samples look
-// sparse.
-void LocusSolver::markSparseQuads(double max_spacing_m) {
-  const int quad_rows = g_.rows - 1, quad_cols = g_.cols - 1;
-  sparse_.assign(std::size_t(quad_rows) * quad_cols, 0);
-  if (!std::isfinite(max_spacing_m)) return;
-  auto spacing = [&](int quad_row, int c) {
-    int a = std::max(quad_row - 1, 0), b = std::min(quad_row + 2, g_.rows - 1);
-    auto at = [&](int r) { return reachAt(r, c); };
-    if (std::isnan(at(a))) a = quad_row;
-    if (std::isnan(at(b))) b = quad_row + 1;
-    const double noise = sensor::rangeSigma(image_.at(quad_row, c), image_.range_sigma_k);
-    return (std::abs(at(b) - at(a)) - 3 * std::sqrt(2.0) * noise) / (b - a);
-  };
-  std::vector<std::uint8_t> column_sparse(std::size_t(g_.cols));  // per pixel column of a quad row
-  for (int r = 0; r < quad_rows; ++r) {
-    for (int c = 0; c < g_.cols; ++c) column_sparse[std::size_t(c)] = spacing(r, c) > max_spacing_m;
-    for (int c = 0; c < quad_cols; ++c)
-      sparse_[std::size_t(r) * quad_cols + c] =
-          column_sparse[std::size_t(c)] || column_sparse[std::size_t(c) + 1];
-  }
 }
 
 // Bilinear (four-point Lagrange) interpolation of the image between two
@@ -977,127 +716,6 @@ HeightNoise LocusSolver::sigmaOfHeight(const Line& line, Bracket& br, double u, 
   result.significant = !insignificant;
   result.ambiguous = insignificant || band_continues;
   return result;
-}
-
-// What finish() needs of a quad beyond the crossing is tabulated for the
-// whole image (tabulateSteepFaces(), tabulateSamplingSigma()): cells
-// outnumber quads, and neighbouring cells share them.
-//
-// A vertical line running along a steep face (a box side, a trench wall)
-// meets it over a long stretch: its crossing, and so the cell's height, is
-// not determined. The quad's normal, from its diagonals, tells.
-void LocusSolver::tabulateSteepFaces() {
-  const int cols = g_.cols, quad_rows = g_.rows - 1, quad_cols = cols - 1;
-  const auto at = [&](std::size_t pixel) -> Eigen::Vector3d {
-    return world_[pixel].cast<double>();
-  };
-  steep_.assign(std::size_t(quad_rows) * quad_cols, 0);
-  for (int r = 0; r < quad_rows; ++r)
-    for (int c = 0; c < quad_cols; ++c) {
-      const std::size_t p = std::size_t(r) * cols + c, q = p + cols;
-      const Eigen::Vector3d n = (at(q + 1) - at(p)).cross(at(p + 1) - at(q));
-      steep_[std::size_t(r) * quad_cols + c] = std::abs(n.z()) < kSteepFaceCos * n.norm();
-    }
-}
-
-// Sampling: the image only knows the surface at its pixels, so a cell's
-// height is bounded by the heights of the pixels around its crossing, taken
-// as uniform in between (std. dev. = spread / sqrt(12)): the quad's four
-// pixels, or the 4 x 4 around it where `near_edge` (within a pixel of an
-// occluding edge), where the cell may belong to either surface.
-void LocusSolver::tabulateSamplingSigma(const std::vector<std::uint8_t>& near_edge) {
-  const int cols = g_.cols, quad_rows = g_.rows - 1, quad_cols = cols - 1;
-  // Per quad, the lowest and highest of its four pixels, those without a
-  // return left out (as -+infinity).
-  std::vector<float> lo(world_.size()), hi(world_.size());
-  for (std::size_t i = 0; i < world_.size(); ++i) {
-    const float z = world_[i].z();
-    lo[i] = std::isnan(z) ? INFINITY : z, hi[i] = std::isnan(z) ? -INFINITY : z;
-  }
-  const std::size_t quad_pixels = world_.size() - cols - 1;  // the quads' top-left pixels
-  for (std::size_t i = 0; i < quad_pixels; ++i) {
-    lo[i] = std::min(std::min(lo[i], lo[i + 1]), std::min(lo[i + cols], lo[i + cols + 1]));
-    hi[i] = std::max(std::max(hi[i], hi[i + 1]), std::max(hi[i + cols], hi[i + cols + 1]));
-  }
-  sampling_sigma_.assign(std::size_t(quad_rows) * quad_cols, 0.0);
-  const double k = image_.range_sigma_k, sensor_z = origin_.z();
-  // A plane is fitted per 2 x 2 quads (quad rows and columns r0, r0 + 1
-  // for even r0), to their 3 x 3 pixels, when one of them first needs it.
-  std::vector<BlockPlane> planes(std::size_t(quad_cols + 1) / 2);
-  std::vector<int> fitted_for(planes.size(), -1);
-  for (int r = 0; r < quad_rows; ++r) {
-    const int r0 = r - r % 2;
-    const bool inner_row = r0 + 2 < g_.rows;
-    for (int c = 0; c < quad_cols; ++c) {
-      const std::size_t quad = std::size_t(r) * quad_cols + c;
-      double low = lo[std::size_t(r) * cols + c], high = hi[std::size_t(r) * cols + c];
-      if (near_edge[quad])
-        for (int nr = std::max(r - 1, 0); nr <= std::min(r + 1, quad_rows - 1); ++nr)
-          for (int nc = std::max(c - 1, 0); nc <= std::min(c + 1, quad_cols - 1); ++nc) {
-            low = std::min(low, double(lo[std::size_t(nr) * cols + nc]));
-            high = std::max(high, double(hi[std::size_t(nr) * cols + nc]));
-          }
-      if (!(high > low)) continue;
-      // The part of the spread that the pixels' own height noise explains
-      // (about 2 sigma for four samples; k rho^2 times the ray's vertical
-      // part each) is already in the noise term and is taken off.
-      const double height_noise = k * image_.at(r, c) * std::abs(sensor_z - low);
-      double excess = std::max(high - low - 2 * height_noise, 0.0);
-      // On a plane the interpolation is exact and the quad's height range is
-      // the plane's rise, not an error: where the pixels around it lie on a
-      // plane within their noise, the range about that plane counts. Only
-      // where the range is large enough to matter (beyond three height
-      // sigmas: a term of a third of the noise, less in quadrature).
-      const int c0 = c - c % 2, group = c0 / 2;
-      if (inner_row && c0 + 2 < cols && !near_edge[quad] && excess > height_noise &&
-          std::abs(quadTwist(r, c)) < 0.5 * (high - low)) {
-        if (fitted_for[group] != r0) planes[group] = fitBlockPlane(r0, c0), fitted_for[group] = r0;
-        const BlockPlane& plane = planes[group];
-        if (plane.planar) {
-          const int i = 3 * (r - r0) + c - c0;
-          const float* d = &plane.offset[std::size_t(i)];
-          const float least = std::min(std::min(d[0], d[1]), std::min(d[3], d[4]));
-          const float most = std::max(std::max(d[0], d[1]), std::max(d[3], d[4]));
-          excess = std::min(excess, std::max(most - least - 2 * plane.offset_noise, 0.0));
-        }
-      }
-      sampling_sigma_[quad] = excess / std::sqrt(12.0);
-    }
-  }
-}
-
-// The plane of the 3 x 3 pixels from (r, c): planar when their rms offset
-// from it is at most three sigmas of a pixel's offset and a millimetre
-// (and every one has a return). A pixel's offset moves by the range noise
-// times how far a step along its ray leaves the plane. In floats about the
-// middle pixel: the block spans at most a few metres.
-LocusSolver::BlockPlane LocusSolver::fitBlockPlane(int r, int c) const {
-  BlockPlane plane;
-  const Eigen::Vector3f o = world_[std::size_t(r + 1) * g_.cols + c + 1];
-  std::array<Eigen::Vector3f, 9> p;
-  float x = 0, y = 0, z = 0, xx = 0, xy = 0, yy = 0, xz = 0, yz = 0, zz = 0;
-  for (int i = 0; i < 9; ++i) {
-    const Eigen::Vector3f& q = p[std::size_t(i)] =
-        world_[std::size_t(r + i / 3) * g_.cols + c + i % 3] - o;
-    x += q.x(), y += q.y(), z += q.z();
-    xx += q.x() * q.x(), xy += q.x() * q.y(), yy += q.y() * q.y();
-    xz += q.x() * q.z(), yz += q.y() * q.z(), zz += q.z() * q.z();
-  }
-  const float mx = x / 9, my = y / 9, mz = z / 9;
-  xx -= x * mx, xy -= x * my, yy -= y * my, xz -= x * mz, yz -= y * mz, zz -= z * mz;
-  const float det = xx * yy - xy * xy;
-  if (!(det > 1e-9f)) return plane;
-  const float a = (xz * yy - yz * xy) / det, b = (yz * xx - xz * xy) / det;
-  const Eigen::Vector3d ray = o.cast<double>() - origin_;
-  plane.offset_noise =
-      image_.range_sigma_k * ray.norm() * std::abs(ray.z() - a * ray.x() - b * ray.y());
-  const double max_rms = 3 * plane.offset_noise + 0.001;
-  plane.planar = zz - a * xz - b * yz <= 9 * max_rms * max_rms;
-  for (int i = 0; i < 9; ++i) {
-    const Eigen::Vector3f& q = p[std::size_t(i)];
-    plane.offset[std::size_t(i)] = q.z() - mz - a * (q.x() - mx) - b * (q.y() - my);
-  }
-  return plane;
 }
 
 // Follows the line up and down from the bracket over the scanlines where
