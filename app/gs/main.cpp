@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -148,26 +149,18 @@ bool haveADisplayOrNeedNone(int argc, char** argv) {
   return false;
 }
 
-}  // namespace
+// What the command line asks of this launch.
+struct LaunchOptions {
+  quint64 seed = 1;
+  int walk_steps = 0;  // 0: no walk at launch
+  int soak_steps = 0;  // 0: no soak
+  QString log_dir, screenshot, replay, dtm;
+  bool startup_time = false, responsiveness = false;
+};
 
-int main(int argc, char** argv) {
-  if (!haveADisplayOrNeedNone(argc, argv)) return 2;
-  ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
-  // One heap for every thread. A heap per thread (the walk session, the
-  // render threads, the pools, llvmpipe's) would keep each one's peak for
-  // good; with two, or four, resident memory still climbs by steps over a
-  // shift (README, A shift). The price: the threads share one heap's lock.
-  mallopt(M_ARENA_MAX, 1);
-  QElapsedTimer since_start;
-  since_start.start();
-  // VTK needs this format, and it must be the default before QApplication.
-  QSurfaceFormat::setDefaultFormat(ambler::rendering::VtkView::defaultFormat());
-  QApplication app(argc, argv);
-  QApplication::setOrganizationName("Ambler");
-  QApplication::setApplicationName("ambler-gs");
-  QApplication::setApplicationVersion(AMBLER_VERSION);
-  qRegisterMetaType<ambler::widgets::ScanDisplay>();
-
+// ambler-gs's command line; nothing, after saying which value is wrong,
+// when one is out of range.
+std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   QCommandLineParser parser;
   parser.setApplicationDescription("Ambler ground station (built-in simulator by default)");
   parser.addHelpOption();
@@ -206,97 +199,148 @@ int main(int argc, char** argv) {
   parser.addOptions({dtm_option, seed_option, screenshot_option, walk_option, replay_option,
                      log_dir_option, startup_option, responsiveness_option, soak_option});
   parser.process(app);
+  LaunchOptions o;
   bool seed_ok = false;
-  const quint64 seed = parser.value(seed_option).toULongLong(&seed_ok);
-  if (!seed_ok || seed == 0 || seed > 999999) {
+  o.seed = parser.value(seed_option).toULongLong(&seed_ok);
+  if (!seed_ok || o.seed == 0 || o.seed > 999999) {
     std::cerr << "ambler-gs: --seed must be an integer from 1 to 999999" << std::endl;
-    return 2;
+    return std::nullopt;
   }
-  const int walk_steps = parser.isSet(walk_option) ? parser.value(walk_option).toInt() : 0;
-  if (parser.isSet(walk_option) && (walk_steps < 1 || walk_steps > 1000)) {
-    std::cerr << "ambler-gs: --walk must be an integer from 1 to 1000" << std::endl;
-    return 2;
+  if (parser.isSet(walk_option)) {
+    o.walk_steps = parser.value(walk_option).toInt();
+    if (o.walk_steps < 1 || o.walk_steps > 1000) {
+      std::cerr << "ambler-gs: --walk must be an integer from 1 to 1000" << std::endl;
+      return std::nullopt;
+    }
   }
+  if (parser.isSet(soak_option)) {
+    o.soak_steps = parser.value(soak_option).toInt();
+    if (o.soak_steps < 1 || o.soak_steps > 100000) {
+      std::cerr << "ambler-gs: --soak must be an integer from 1 to 100000" << std::endl;
+      return std::nullopt;
+    }
+  }
+  o.log_dir = parser.value(log_dir_option);
+  o.screenshot = parser.value(screenshot_option);
+  o.replay = parser.value(replay_option);
+  o.dtm = parser.value(dtm_option);
+  o.startup_time = parser.isSet(startup_option);
+  o.responsiveness = parser.isSet(responsiveness_option);
+  return o;
+}
 
+// The station's configuration from the installed files; nothing, after
+// showing the operator why, when one cannot be read.
+std::optional<ambler::gs::StationOptions> stationOptions(const LaunchOptions& launch) {
   ambler::gs::StationOptions options;
-  options.seed = seed;
+  options.seed = launch.seed;
   options.operator_id = qEnvironmentVariable("USER", "operator");
-  options.log_dir = parser.value(log_dir_option);
-  if (parser.isSet(dtm_option))
-    options.dtm =
-        ambler::sim::DtmSource{parser.value(dtm_option).toStdString(),
-                               {.centre = {}, .width = 60.0, .height = 60.0, .resolution = 0.1}};
+  options.log_dir = launch.log_dir;
+  if (!launch.dtm.isEmpty())
+    options.dtm = ambler::sim::DtmSource{
+        launch.dtm.toStdString(), {.centre = {}, .width = 60.0, .height = 60.0, .resolution = 0.1}};
   try {
     options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
     options.ground = ambler::gait::readInstalledGaitContext();
     options.simulator = ambler::rover::readInstalledSimulatedRoverConfig();
   } catch (const std::exception& e) {
     QMessageBox::critical(nullptr, "Ambler Ground Station", e.what());
-    return 1;
+    return std::nullopt;
   }
-  ambler::gs::GroundStation station(options);
+  return options;
+}
+
+// --startup-time: once the first scan is shown, prints the times from
+// `since_start` to the first 3-D frame and to the scan, and the 3-D view's
+// frame times, as JSON; quits.
+void printStartupTimes(ambler::widgets::MainWindow& window, const QElapsedTimer& since_start) {
+  auto first_frame = std::make_shared<qint64>(-1);
+  QObject::connect(window.terrainView()->view(), &ambler::rendering::VtkView::frameRendered,
+                   &window, [&since_start, first_frame] {
+                     if (*first_frame < 0) *first_frame = since_start.elapsed();
+                   });
+  QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
+                   [&since_start, first_frame, &window] {
+                     const qint64 scan_ms = since_start.elapsed();
+                     auto* view = window.terrainView()->view();
+                     // The 3-D view draws on its own thread: a frame drawn
+                     // now holds the scan for sure (an upper bound).
+                     view->renderedImage();
+                     const qint64 scan_frame_ms = since_start.elapsed();
+                     const auto still = frameTimes(view, false), moving = frameTimes(view, true);
+                     std::cout << "{\"first_frame_ms\": " << *first_frame
+                               << ", \"first_scan_shown_ms\": " << scan_ms
+                               << ", \"first_scan_3d_frame_ms\": " << scan_frame_ms
+                               << ", \"frame_ms_still\": " << still.first
+                               << ", \"cells_still\": " << still.second
+                               << ", \"frame_ms_moving\": " << moving.first
+                               << ", \"cells_moving\": " << moving.second << "}" << std::endl;
+                     QApplication::exit(0);
+                   });
+}
+
+// --screenshot: the window once what the launch shows first is on screen
+// (the replayed log, the walk's first proposal, or the first scan).
+void screenshotWhenReady(ambler::gs::GroundStation& station, const LaunchOptions& launch) {
+  auto& window = station.window();
+  const QString path = launch.screenshot;
+  if (!launch.replay.isEmpty())
+    QObject::connect(&station, &ambler::gs::GroundStation::replayReady, &window,
+                     [&window, path] { screenshotOnce(window, path); });
+  else if (launch.walk_steps > 0)
+    QObject::connect(&station, &ambler::gs::GroundStation::proposalShown, &window,
+                     [&window, path] { screenshotOnce(window, path); });
+  else
+    QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
+                     [&window, path] { screenshotOnce(window, path); });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (!haveADisplayOrNeedNone(argc, argv)) return 2;
+  ambler::keepFreedMemoryForReuse();  // before the first scan's buffers
+  // One heap for every thread. A heap per thread (the walk session, the
+  // render threads, the pools, llvmpipe's) would keep each one's peak for
+  // good; with two, or four, resident memory still climbs by steps over a
+  // shift (README, A shift). The price: the threads share one heap's lock.
+  mallopt(M_ARENA_MAX, 1);
+  QElapsedTimer since_start;
+  since_start.start();
+  // VTK needs this format, and it must be the default before QApplication.
+  QSurfaceFormat::setDefaultFormat(ambler::rendering::VtkView::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("Ambler");
+  QApplication::setApplicationName("ambler-gs");
+  QApplication::setApplicationVersion(AMBLER_VERSION);
+  qRegisterMetaType<ambler::widgets::ScanDisplay>();
+
+  const auto launch = parseLaunchOptions(app);
+  if (!launch) return 2;
+  const auto options = stationOptions(*launch);
+  if (!options) return 1;
+  ambler::gs::GroundStation station(*options);
   auto& window = station.window();
   // Always on: a stalled GUI thread is a defect an operator should be able
   // to report with figures (printed at exit).
   ambler::gs::EventLoopWatchdog watchdog;
   watchdog.start();
-  if (parser.isSet(responsiveness_option))
-    measureResponsiveness(station, watchdog, walk_steps > 0 ? walk_steps : 25);
+  if (launch->responsiveness)
+    measureResponsiveness(station, watchdog, launch->walk_steps > 0 ? launch->walk_steps : 25);
   std::unique_ptr<ambler::gs::Soak> soak;
-  if (parser.isSet(soak_option)) {
-    const int steps = parser.value(soak_option).toInt();
-    if (steps < 1 || steps > 100000) {
-      std::cerr << "ambler-gs: --soak must be an integer from 1 to 100000" << std::endl;
-      return 2;
-    }
-    soak = std::make_unique<ambler::gs::Soak>(station, watchdog, steps);
-  }
-
-  if (parser.isSet(startup_option)) {
-    // The first frame of the 3-D view, then the first scan in the views.
-    auto first_frame = std::make_shared<qint64>(-1);
-    QObject::connect(window.terrainView()->view(), &ambler::rendering::VtkView::frameRendered, &app,
-                     [&since_start, first_frame] {
-                       if (*first_frame < 0) *first_frame = since_start.elapsed();
-                     });
-    QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &app,
-                     [&since_start, first_frame, &window] {
-                       const qint64 scan_ms = since_start.elapsed();
-                       auto* view = window.terrainView()->view();
-                       // The 3-D view draws on its own thread: a frame drawn
-                       // now holds the scan for sure (an upper bound).
-                       view->renderedImage();
-                       const qint64 scan_frame_ms = since_start.elapsed();
-                       const auto still = frameTimes(view, false), moving = frameTimes(view, true);
-                       std::cout << "{\"first_frame_ms\": " << *first_frame
-                                 << ", \"first_scan_shown_ms\": " << scan_ms
-                                 << ", \"first_scan_3d_frame_ms\": " << scan_frame_ms
-                                 << ", \"frame_ms_still\": " << still.first
-                                 << ", \"cells_still\": " << still.second
-                                 << ", \"frame_ms_moving\": " << moving.first
-                                 << ", \"cells_moving\": " << moving.second << "}" << std::endl;
-                       QApplication::exit(0);
-                     });
-  }
-  if (parser.isSet(screenshot_option)) {
-    const QString path = parser.value(screenshot_option);
-    if (parser.isSet(replay_option))
-      QObject::connect(&station, &ambler::gs::GroundStation::replayReady, &window,
-                       [&window, path] { screenshotOnce(window, path); });
-    else if (walk_steps > 0)
-      QObject::connect(&station, &ambler::gs::GroundStation::proposalShown, &window,
-                       [&window, path] { screenshotOnce(window, path); });
-    else
-      QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
-                       [&window, path] { screenshotOnce(window, path); });
-  }
+  if (launch->soak_steps > 0)
+    soak = std::make_unique<ambler::gs::Soak>(station, watchdog, launch->soak_steps);
+  if (launch->startup_time) printStartupTimes(window, since_start);
+  if (!launch->screenshot.isEmpty()) screenshotWhenReady(station, *launch);
 
   window.show();
   // A replay shows the log alone: no simulated scan behind it.
-  if (!parser.isSet(replay_option)) emit window.scanRequested(seed);
-  if (parser.isSet(replay_option)) station.openLog(parser.value(replay_option));
-  const bool scripted = parser.isSet(responsiveness_option) || parser.isSet(soak_option);
-  if (walk_steps > 0 && !scripted) station.startWalk(walk_steps);
+  if (launch->replay.isEmpty())
+    emit window.scanRequested(launch->seed);
+  else
+    station.openLog(launch->replay);
+  const bool scripted = launch->responsiveness || soak;
+  if (launch->walk_steps > 0 && !scripted) station.startWalk(launch->walk_steps);
   const int status = app.exec();
   if (!scripted) {
     std::cerr << "ambler-gs: event loop {";
