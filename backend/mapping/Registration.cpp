@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <string>
 #include <stdexcept>
 
 #include "mapping/HeightSearch.h"
@@ -498,52 +500,47 @@ double rms(const NormalEquations& eq) {
   return eq.pairs ? std::sqrt(eq.residual2 / double(eq.pairs)) : 0.0;
 }
 
-// Partners, residual and the conditioning of the point-to-plane problem at
-// the fit; `frame` turns the working frame's directions into the target's.
-// `self_rms` is the source's residual against its own surface.
-RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
-                          const std::vector<Surfel>& target, const PointIndex& index,
-                          const Fit& fit, const Eigen::Isometry3d& frame, double agreement,
-                          double self_rms, const RegistrationOptions& o, int threads) {
-  RegistrationQuality q;
-  q.agreement = agreement;
-  q.self_rms_m = self_rms;
-  const auto eq = planeResiduals(source, fit.transform, target, index, o, threads);
-  q.partners = int(eq.pairs);
-  q.overlap = source.empty() ? 0.0 : double(eq.pairs) / double(source.size());
-  char why[200];
-  if (eq.pairs < 30 || q.overlap < o.min_overlap) {
-    q.verdict = Verdict::kNoOverlap;
-    std::snprintf(why, sizeof why,
-                  "%.0f %% of the source's points have a partner in the target; at least "
-                  "%.0f %% needed",
-                  100 * q.overlap, 100 * o.min_overlap);
-    q.reason = why;
-    return q;
-  }
-  if (o.min_agreement > 0 && !(agreement >= o.min_agreement)) {
-    q.verdict = Verdict::kNoOverlap;
-    std::snprintf(why, sizeof why,
-                  "the clouds' heights agree within %.0f mm on %.0f %% of the ground they share; "
-                  "at least %.0f %% for the same ground",
-                  1000 * o.agreement_tolerance_m, 100 * agreement, 100 * o.min_agreement);
-    q.reason = why;
-    return q;
-  }
-  q.rms_m = rms(eq);
-  // Ground the source shares with the target fits the target's surface
-  // about as well as the source's own; another place's gentle ground can
-  // agree in height within the tolerance and still not.
-  const double own = std::max(self_rms, o.sigma_floor_m);
-  if (o.max_residual_ratio > 0 && q.rms_m > o.max_residual_ratio * own) {
-    q.verdict = Verdict::kNoOverlap;
-    std::snprintf(why, sizeof why,
-                  "the source lies %.1f mm off the target's surface and %.1f mm off its own; "
-                  "at most %.1f times %.1f mm for the same ground",
-                  1000 * q.rms_m, 1000 * self_rms, o.max_residual_ratio, 1000 * own);
-    q.reason = why;
-    return q;
-  }
+std::string formatted(const char* format, auto... values) {
+  char text[200];
+  std::snprintf(text, sizeof text, format, values...);
+  return text;
+}
+
+// Why the source shares too little with the target to be of the same
+// ground (partners, height agreement), or nothing.
+std::optional<std::string> sharesTooLittle(const RegistrationQuality& q, std::size_t pairs,
+                                           const RegistrationOptions& o) {
+  if (pairs < 30 || q.overlap < o.min_overlap)
+    return formatted(
+        "%.0f %% of the source's points have a partner in the target; at least %.0f %% needed",
+        100 * q.overlap, 100 * o.min_overlap);
+  if (o.min_agreement > 0 && !(q.agreement >= o.min_agreement))
+    return formatted(
+        "the clouds' heights agree within %.0f mm on %.0f %% of the ground they share; at least "
+        "%.0f %% for the same ground",
+        1000 * o.agreement_tolerance_m, 100 * q.agreement, 100 * o.min_agreement);
+  return std::nullopt;
+}
+
+// Ground the source shares with the target fits the target's surface
+// about as well as the source's own; another place's gentle ground can
+// agree in height within the tolerance and still not.
+std::optional<std::string> fitsAnotherSurface(const RegistrationQuality& q,
+                                              const RegistrationOptions& o) {
+  const double own = std::max(q.self_rms_m, o.sigma_floor_m);
+  if (o.max_residual_ratio > 0 && q.rms_m > o.max_residual_ratio * own)
+    return formatted(
+        "the source lies %.1f mm off the target's surface and %.1f mm off its own; at most %.1f "
+        "times %.1f mm for the same ground",
+        1000 * q.rms_m, 1000 * q.self_rms_m, o.max_residual_ratio, 1000 * own);
+  return std::nullopt;
+}
+
+// The conditioning of the point-to-plane problem over the partners: its
+// weakest direction and the standard deviation per axis; `frame` turns
+// the working frame's directions into the target's.
+void weighConditioning(RegistrationQuality& q, const NormalEquations& eq,
+                       const Eigen::Isometry3d& frame, const RegistrationOptions& o) {
   const double radius = std::max(std::sqrt(eq.radius2 / double(eq.pairs)), 1e-3);
   // Rotations scaled to the motion of a point at the clouds' radius.
   Vector6d scale;
@@ -571,29 +568,57 @@ RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
   } else {
     q.sigma.setConstant(INFINITY);
   }
+}
+
+// Degenerate, doubtful or trusted, with the reason, for clouds of the same
+// ground.
+void pronounce(RegistrationQuality& q, const Fit& fit, const RegistrationOptions& o) {
   if (q.weakest_sigma_m > o.degenerate_sigma_m) {
     q.verdict = Verdict::kDegenerate;
-    std::snprintf(why, sizeof why, "the ground does not hold the fit along %s (+-%.1f mm)",
-                  q.weakest_axis.c_str(), 1000 * std::min(q.weakest_sigma_m, 1e9));
+    q.reason = formatted("the ground does not hold the fit along %s (+-%.1f mm)",
+                         q.weakest_axis.c_str(), 1000 * std::min(q.weakest_sigma_m, 1e9));
   } else if (!fit.converged) {
     q.verdict = Verdict::kDoubtful;
-    std::snprintf(why, sizeof why, "did not settle in %d iterations", fit.iterations);
+    q.reason = formatted("did not settle in %d iterations", fit.iterations);
   } else if (q.overlap < o.trusted_overlap) {
     q.verdict = Verdict::kDoubtful;
-    std::snprintf(why, sizeof why, "only %.0f %% of the source's points have a partner",
-                  100 * q.overlap);
+    q.reason = formatted("only %.0f %% of the source's points have a partner", 100 * q.overlap);
   } else if (q.rms_m > o.max_rms_m) {
     q.verdict = Verdict::kDoubtful;
-    std::snprintf(why, sizeof why, "residual %.1f mm over the partners", 1000 * q.rms_m);
+    q.reason = formatted("residual %.1f mm over the partners", 1000 * q.rms_m);
   } else if (q.weakest_sigma_m > o.doubtful_sigma_m) {
     q.verdict = Verdict::kDoubtful;
-    std::snprintf(why, sizeof why, "loosely held along %s (+-%.1f mm)", q.weakest_axis.c_str(),
-                  1000 * q.weakest_sigma_m);
+    q.reason = formatted("loosely held along %s (+-%.1f mm)", q.weakest_axis.c_str(),
+                         1000 * q.weakest_sigma_m);
   } else {
     q.verdict = Verdict::kTrusted;
-    why[0] = 0;
+    q.reason.clear();
   }
-  q.reason = why;
+}
+
+// Partners, residual and the conditioning of the point-to-plane problem at
+// the fit, and the verdict; `self_rms` is the source's residual against its
+// own surface.
+RegistrationQuality judge(const std::vector<Eigen::Vector3d>& source,
+                          const std::vector<Surfel>& target, const PointIndex& index,
+                          const Fit& fit, const Eigen::Isometry3d& frame, double agreement,
+                          double self_rms, const RegistrationOptions& o, int threads) {
+  RegistrationQuality q;
+  q.agreement = agreement;
+  q.self_rms_m = self_rms;
+  const auto eq = planeResiduals(source, fit.transform, target, index, o, threads);
+  q.partners = int(eq.pairs);
+  q.overlap = source.empty() ? 0.0 : double(eq.pairs) / double(source.size());
+  auto refused = [&q](std::string why) {
+    q.verdict = Verdict::kNoOverlap;
+    q.reason = std::move(why);
+    return q;
+  };
+  if (auto why = sharesTooLittle(q, eq.pairs, o)) return refused(*why);
+  q.rms_m = rms(eq);
+  if (auto why = fitsAnotherSurface(q, o)) return refused(*why);
+  weighConditioning(q, eq, frame, o);
+  pronounce(q, fit, o);
   return q;
 }
 
