@@ -12,8 +12,8 @@
 #include <limits>
 #include <memory>
 #include <optional>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 #include "mapping/HeightSearch.h"
 #include "mapping/PointIndex.h"

@@ -46,13 +46,9 @@ struct JumpTest {
 // diagonals of the quad below and right of it.
 enum PairFlags : std::uint8_t { kRight = 1, kDown = 2, kDiagonal = 4, kAnti = 8 };
 
-}  // namespace
-
-OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingEdgeOptions& options)
-    : rows_(image.rows()),
-      cols_(image.cols()),
-      pixel_(std::size_t(rows_) * cols_, 0),
-      quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
+// Throws std::invalid_argument naming the allowance out of order; returns
+// the weak edge allowance, at most the strong one.
+double checkedWeakSigmas(const OccludingEdgeOptions& options) {
   // An uncontinued weak jump counts as grazing, which is only right when it
   // is beyond the grazing allowance too.
   const double weak_sigmas = std::min(options.weak_noise_sigmas, options.noise_sigmas);
@@ -71,7 +67,134 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
     throw std::invalid_argument(
         "the grazing baseline must be 0 (off) or at least 2 scanlines, not " +
         std::to_string(options.grazing_baseline_rows));
-  const auto& g = image.geometry;
+  return weak_sigmas;
+}
+
+// The level of every pair of neighbouring pixels, three bits per kind of
+// pair (right, down, diagonal, anti) by the pixel it starts from.
+class PairLevels {
+ public:
+  PairLevels(const sensor::RangeImage& image, const JumpTest& jumps)
+      : rows_(image.rows()), cols_(image.cols()), jumps_(jumps) {
+    // Angular separation of neighbours: a column step turns the ray by
+    // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
+    const auto& g = image.geometry;
+    col_sep_ = std::abs(g.theta_step);
+    row_sep_.resize(cols_), diagonal_sep_.resize(cols_);
+    for (int c = 0; c < cols_; ++c) {
+      row_sep_[c] = std::abs(g.phi_step) * std::cos(g.theta(c));
+      const double mid = std::abs(g.phi_step) * std::cos(g.theta(c + 0.5));
+      diagonal_sep_[c] = std::hypot(mid, col_sep_);
+    }
+    // The ranges with NaN where there is no return: every comparison with
+    // a missing pixel is false, so its pairs are never jumps without a test.
+    range_.assign(std::size_t(rows_) * cols_, NAN);
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c)
+        if (image.hasReturn(r, c)) range_[std::size_t(r) * cols_ + c] = image.at(r, c);
+    level_.assign(range_.size(), 0);
+    if (cols_ > 0) screen();
+  }
+
+  const std::vector<float>& range() const { return range_; }
+  const std::vector<double>& rowSeparation() const { return row_sep_; }
+  // Any pair from this pixel beyond the continuous level.
+  bool any(int r, int c) const { return level_[std::size_t(r) * cols_ + c] != 0; }
+  Level at(int r, int c, int kind) const {
+    if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return kContinuous;
+    return Level((level_[std::size_t(r) * cols_ + c] >> (3 * kind)) & 7);
+  }
+  // A weak level is kept when what it is continues: a pair of the same
+  // kind beside it along the run (across rows for a row pair, along columns
+  // for a column pair, either way for diagonals) whose level `counts`.
+  template <class Counts>
+  bool continued(int r, int c, int kind, Counts counts) const {
+    for (int d = -1; d <= 1; ++d)
+      for (int e : {-1, 1}) {
+        const bool along_columns = kind == 1 || (kind >= 2 && d == 0);
+        const int rr = along_columns ? r + d : r + e, cc = along_columns ? c + e : c + d;
+        if (counts(at(rr, cc, kind))) return true;
+      }
+    return false;
+  }
+
+ private:
+  double rangeAt(int r, int c) const { return double(range_[std::size_t(r) * cols_ + c]); }
+
+  Level test(int r0, int c0, int r1, int c1, double separation) const {
+    const double a = rangeAt(r0, c0), b = rangeAt(r1, c1);
+    const double near = std::min(a, b);
+    // Within the grazing bound the pair is continuous whatever the rest of
+    // the test says: most pairs, decided without a neighbour or a root.
+    if (!(std::abs(a - b) > near * separation * jumps_.inv_tan_grazing)) return kContinuous;
+    // The nearer pixel's neighbour on the side away from the other pixel.
+    const int dr = r1 - r0, dc = c1 - c0;
+    const int nr = a <= b ? r0 - dr : r1 + dr, nc = a <= b ? c0 - dc : c1 + dc;
+    const bool valid =
+        nr >= 0 && nr < rows_ && nc >= 0 && nc < cols_ && !std::isnan(rangeAt(nr, nc));
+    const double near_slope = valid ? std::abs(rangeAt(nr, nc) - near) : 0.0;
+    return jumps_(a, b, separation, near_slope);
+  }
+
+  void record(int r, int c, int kind, Level l) {
+    level_[std::size_t(r) * cols_ + c] |= std::uint16_t(l << (3 * kind));
+  }
+
+  void testAll(int r, int c, std::uint8_t candidates) {
+    if (candidates & kRight) record(r, c, 0, test(r, c, r, c + 1, col_sep_));
+    if (candidates & kDown) record(r, c, 1, test(r, c, r + 1, c, row_sep_[c]));
+    if (candidates & kDiagonal) record(r, c, 2, test(r, c, r + 1, c + 1, diagonal_sep_[c]));
+    if (candidates & kAnti) record(r, c, 3, test(r, c + 1, r + 1, c, diagonal_sep_[c]));
+  }
+
+  // Screening a row at a time in single precision, in loops the compiler
+  // vectorises, finds the few pairs beyond the grazing bound (less 0.1 %,
+  // far more than single precision's error); only those get the test.
+  void screen() {
+    const float bound = float(jumps_.inv_tan_grazing * 0.999);
+    std::vector<float> row_bound(cols_), diagonal_bound(cols_);
+    for (int c = 0; c < cols_; ++c) {
+      row_bound[c] = float(row_sep_[c]) * bound;
+      diagonal_bound[c] = float(diagonal_sep_[c]) * bound;
+    }
+    const float col_bound = float(col_sep_) * bound;
+    auto beyond = [](float a, float b, float bound) {
+      return std::abs(a - b) > std::min(a, b) * bound;
+    };
+    std::vector<std::uint8_t> candidates(cols_);
+    for (int r = 0; r < rows_; ++r) {
+      const float* here = &range_[std::size_t(r) * cols_];
+      const float* next = r + 1 < rows_ ? here + cols_ : here;  // the last row has no pairs down
+      const int last = cols_ - 1;
+      for (int c = 0; c < last; ++c)
+        candidates[c] = (beyond(here[c], here[c + 1], col_bound) ? kRight : 0) |
+                        (beyond(here[c], next[c], row_bound[c]) ? kDown : 0) |
+                        (beyond(here[c], next[c + 1], diagonal_bound[c]) ? kDiagonal : 0) |
+                        (beyond(here[c + 1], next[c], diagonal_bound[c]) ? kAnti : 0);
+      candidates[last] = beyond(here[last], next[last], row_bound[last]) ? kDown : 0;
+      if (r + 1 == rows_)
+        for (auto& flags : candidates) flags &= kRight;
+      for (int c = 0; c < cols_; ++c)
+        if (candidates[c]) testAll(r, c, candidates[c]);
+    }
+  }
+
+  int rows_, cols_;
+  JumpTest jumps_;
+  double col_sep_ = 0.0;
+  std::vector<double> row_sep_, diagonal_sep_;
+  std::vector<float> range_;
+  std::vector<std::uint16_t> level_;
+};
+
+}  // namespace
+
+OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingEdgeOptions& options)
+    : rows_(image.rows()),
+      cols_(image.cols()),
+      pixel_(std::size_t(rows_) * cols_, 0),
+      quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
+  const double weak_sigmas = checkedWeakSigmas(options);
   const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
                        options.step_ratio,
                        options.noise_sigmas,
@@ -79,119 +202,41 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
                        weak_sigmas,
                        options.grazing_noise_sigmas,
                        options.weak_grazing_noise_sigmas};
-  // Angular separation of neighbours: a column step turns the ray by
-  // |theta_step|, a row step by |phi_step| cos(theta) (eq. 1).
-  const double col_sep = std::abs(g.theta_step);
-  std::vector<double> row_sep(cols_), diagonal_sep(cols_);
-  for (int c = 0; c < cols_; ++c) {
-    row_sep[c] = std::abs(g.phi_step) * std::cos(g.theta(c));
-    const double mid = std::abs(g.phi_step) * std::cos(g.theta(c + 0.5));
-    diagonal_sep[c] = std::hypot(mid, col_sep);
-  }
-  // The ranges with NaN where there is no return: every comparison with a
-  // missing pixel is false, so its pairs are never jumps without a test.
-  std::vector<float> range(pixel_.size(), NAN);
-  for (int r = 0; r < rows_; ++r)
-    for (int c = 0; c < cols_; ++c)
-      if (image.hasReturn(r, c)) range[std::size_t(r) * cols_ + c] = image.at(r, c);
-  auto at = [&](int r, int c) { return double(range[std::size_t(r) * cols_ + c]); };
-  // The level of each tested pair, by the pixel it starts from and kind.
-  std::vector<std::uint16_t> level(pixel_.size(), 0);
-  auto test = [&](int r0, int c0, int r1, int c1, double separation) -> Level {
-    const double a = at(r0, c0), b = at(r1, c1);
-    const double near = std::min(a, b);
-    // Within the grazing bound the pair is continuous whatever the rest of
-    // the test says: most pairs, decided without a neighbour or a root.
-    if (!(std::abs(a - b) > near * separation * jumps.inv_tan_grazing)) return kContinuous;
-    // The nearer pixel's neighbour on the side away from the other pixel.
-    const int dr = r1 - r0, dc = c1 - c0;
-    const int nr = a <= b ? r0 - dr : r1 + dr, nc = a <= b ? c0 - dc : c1 + dc;
-    const bool valid = nr >= 0 && nr < rows_ && nc >= 0 && nc < cols_ && !std::isnan(at(nr, nc));
-    const double near_slope = valid ? std::abs(at(nr, nc) - near) : 0.0;
-    return jumps(a, b, separation, near_slope);
-  };
-  // Levels in bits: three per pair kind (right, down, diagonal, anti).
-  auto record = [&](int r, int c, int kind, Level l) {
-    level[std::size_t(r) * cols_ + c] |= std::uint16_t(l << (3 * kind));
-  };
-  auto levelOf = [&](int r, int c, int kind) -> Level {
-    if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return kContinuous;
-    return Level((level[std::size_t(r) * cols_ + c] >> (3 * kind)) & 7);
-  };
-  auto testAll = [&](int r, int c, std::uint8_t candidates) {
-    if (candidates & kRight) record(r, c, 0, test(r, c, r, c + 1, col_sep));
-    if (candidates & kDown) record(r, c, 1, test(r, c, r + 1, c, row_sep[c]));
-    if (candidates & kDiagonal) record(r, c, 2, test(r, c, r + 1, c + 1, diagonal_sep[c]));
-    if (candidates & kAnti) record(r, c, 3, test(r, c + 1, r + 1, c, diagonal_sep[c]));
-  };
-  // Screening a row at a time in single precision, in loops the compiler
-  // vectorises, finds the few pairs beyond the grazing bound (less 0.1 %,
-  // far more than single precision's error); only those get the test.
-  const float bound = float(jumps.inv_tan_grazing * 0.999);
-  std::vector<float> row_bound(cols_), diagonal_bound(cols_);
-  for (int c = 0; c < cols_; ++c) {
-    row_bound[c] = float(row_sep[c]) * bound;
-    diagonal_bound[c] = float(diagonal_sep[c]) * bound;
-  }
-  const float col_bound = float(col_sep) * bound;
-  auto beyond = [](float a, float b, float bound) {
-    return std::abs(a - b) > std::min(a, b) * bound;
-  };
   if (cols_ == 0) return;
-  std::vector<std::uint8_t> candidates(cols_);
-  for (int r = 0; r < rows_; ++r) {
-    const float* here = &range[std::size_t(r) * cols_];
-    const float* next = r + 1 < rows_ ? here + cols_ : here;  // the last row has no pairs down
-    const int last = cols_ - 1;
-    for (int c = 0; c < last; ++c)
-      candidates[c] = (beyond(here[c], here[c + 1], col_bound) ? kRight : 0) |
-                      (beyond(here[c], next[c], row_bound[c]) ? kDown : 0) |
-                      (beyond(here[c], next[c + 1], diagonal_bound[c]) ? kDiagonal : 0) |
-                      (beyond(here[c + 1], next[c], diagonal_bound[c]) ? kAnti : 0);
-    candidates[last] = beyond(here[last], next[last], row_bound[last]) ? kDown : 0;
-    if (r + 1 == rows_)
-      for (auto& flags : candidates) flags &= kRight;
-    for (int c = 0; c < cols_; ++c)
-      if (candidates[c]) testAll(r, c, candidates[c]);
-  }
+  const PairLevels levels(image, jumps);
   if (options.mark_grazing && options.grazing_baseline_rows > 0)
-    markGrazingBaselines(range, row_sep, jumps.inv_tan_grazing, jumps.k,
+    markGrazingBaselines(levels.range(), levels.rowSeparation(), jumps.inv_tan_grazing, jumps.k,
                          options.grazing_baseline_rows, options.grazing_baseline_noise_sigmas,
                          options.grazing_noise_sigmas);
-  // A weak level is kept when what it is continues: a pair of the same
-  // kind beside it along the run (across rows for a row pair, along columns
-  // for a column pair, either way for diagonals) whose level `counts`.
-  auto continued = [&](int r, int c, int kind, auto counts) {
-    for (int d = -1; d <= 1; ++d)
-      for (int e : {-1, 1}) {
-        const bool along_columns = kind == 1 || (kind >= 2 && d == 0);
-        const int rr = along_columns ? r + d : r + e, cc = along_columns ? c + e : c + d;
-        if (counts(levelOf(rr, cc, kind))) return true;
-      }
-    return false;
-  };
   auto isEdge = [](Level l) { return l == kWeakEdge || l == kEdge; };
   auto isEdgeOrGrazing = [](Level l) { return l == kWeakEdge || l == kEdge || l == kGrazing; };
   for (int r = 0; r < rows_; ++r)
     for (int c = 0; c < cols_; ++c) {
-      if (!level[std::size_t(r) * cols_ + c]) continue;
+      if (!levels.any(r, c)) continue;
       for (int kind = 0; kind < 4; ++kind) {
-        const Level l = levelOf(r, c, kind);
+        const Level l = levels.at(r, c, kind);
         if (l == kContinuous) continue;
         if (l == kGrazing || l == kWeakGrazing ||
-            (l == kWeakEdge && !continued(r, c, kind, isEdge))) {
-          if (options.mark_grazing && (l != kWeakGrazing || continued(r, c, kind, isEdgeOrGrazing)))
+            (l == kWeakEdge && !levels.continued(r, c, kind, isEdge))) {
+          if (options.mark_grazing &&
+              (l != kWeakGrazing || levels.continued(r, c, kind, isEdgeOrGrazing)))
             markQuadsOfPair(r, c, kind, kGrazingQuad);
           continue;
         }
-        const int r1 = kind == 0 ? r : r + 1;
-        const int c0 = kind == 3 ? c + 1 : c, c1 = kind == 1 ? c : (kind == 3 ? c : c + 1);
-        pixel_[std::size_t(r) * cols_ + c0] |= kEdgePixel;
-        pixel_[std::size_t(r1) * cols_ + c1] |= kEdgePixel;
-        if (kind == 0) pixel_[std::size_t(r) * cols_ + c] |= kRightPairEdge;
-        markQuadsOfPair(r, c, kind, kEdgeQuad);
+        markEdgePair(r, c, kind);
       }
     }
+}
+
+// An occluding edge between the two pixels of a pair: both are edge
+// pixels, and it marks its quads.
+void OccludingEdges::markEdgePair(int r, int c, int kind) {
+  const int r1 = kind == 0 ? r : r + 1;
+  const int c0 = kind == 3 ? c + 1 : c, c1 = kind == 1 ? c : (kind == 3 ? c : c + 1);
+  pixel_[std::size_t(r) * cols_ + c0] |= kEdgePixel;
+  pixel_[std::size_t(r1) * cols_ + c1] |= kEdgePixel;
+  if (kind == 0) pixel_[std::size_t(r) * cols_ + c] |= kRightPairEdge;
+  markQuadsOfPair(r, c, kind, kEdgeQuad);
 }
 
 // Each pair of scanlines (r, r + 1) against the range step per scanline

@@ -80,6 +80,7 @@ class OccludingEdges {
   // Kinds as the levels' bits: 0 along a scanline, 1 across scanlines, 2
   // and 3 the diagonals.
   void markQuadsOfPair(int r, int c, int kind, std::uint8_t flag);
+  void markEdgePair(int r, int c, int kind);
 
   int rows_ = 0, cols_ = 0;
   std::vector<std::uint8_t> pixel_;
