@@ -33,21 +33,13 @@ struct JointGrid {
 
 double angleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
 
-}  // namespace
-
-LegJoints liftOff(const LegJoints& standing, double vertical_m, const RoverModel& model) {
-  return {standing.rotation_rad,
-          std::clamp(standing.extension_m, model.extension_min_m, model.extension_max_m),
-          vertical_m};
-}
-
-RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int leg,
-                             const Eigen::Vector3d& goal, const ClearanceField& clearance,
-                             const RecoveryOptions& o, double touchdown_overshoot) {
-  RecoveryPlan plan;
-  const JointGrid grid(model, o);
+// The sole height over each joint cell that clears the ground under the
+// disk the sole sweeps between cells, INFINITY where the leg may not go
+// (too high to lift over, another leg's vertical link, another shaft).
+std::vector<double> soleHeightsNeeded(const RoverModel& model, const Stance& stance, int leg,
+                                      const JointGrid& grid, const ClearanceField& clearance,
+                                      const RecoveryOptions& o) {
   const double max_sole_z = stance.body.link_z - model.vertical_min_m;
-  // The sole must clear everything under the disk it sweeps between cells.
   const double grown = 0.5 * model.foot_diameter_m + o.uncertainty_m +
                        0.5 * std::max(grid.d_rot * model.extension_max_m, grid.d_ext);
   std::vector<double> need(std::size_t(grid.size()));
@@ -70,49 +62,69 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
           z = INFINITY;
       need[std::size_t(grid.index(i, j))] = z;
     }
+  return need;
+}
 
-  const LegJoints start_q = stance.joints(model, leg);
-  const LegJoints goal_q = model.jointsFor(leg, stance.body.toBody(goal));
-  const int start = grid.nearest(start_q), target = grid.nearest(goal_q);
-  const double start_z = stance.feet[std::size_t(leg)].z();
-  // Start and goal cells are where the foot is and will be: never blocked
-  // by the foot's own ground, only lifted to what the neighbours need.
-  for (int c : {start, target})
-    if (std::isinf(need[std::size_t(c)])) need[std::size_t(c)] = max_sole_z;
+// What a move between two neighbouring joint cells takes: its time (the
+// slower of the horizontal joints, or the lift), its energy (the joints'
+// power while they move, and the leg's weight lifted), and its cost, the
+// time plus the energy weighed by the options' power-time ratio.
+class MoveCost {
+ public:
+  MoveCost(const RoverModel& model, const JointGrid& grid, const std::vector<double>& need,
+           const RecoveryOptions& o)
+      : model_(model), grid_(grid), need_(need), o_(o) {}
 
-  const double energy_rate = model.recovery_power_w;
-  const double lift_j_per_m = o.leg_mass_kg * o.gravity_m_s2;
-  auto stepCost = [&](int a, int b, double* time, double* energy) {
-    const int ia = a % grid.n_rot, ja = a / grid.n_rot, ib = b % grid.n_rot, jb = b / grid.n_rot;
-    const double rot = angleBetween(grid.rotation(ia), grid.rotation(ib));
-    const double ext = std::abs(grid.extension(ja) - grid.extension(jb));
-    const double lift = std::max(0.0, need[std::size_t(b)] - need[std::size_t(a)]);
+  double lift_j_per_m() const { return o_.leg_mass_kg * o_.gravity_m_s2; }
+
+  double operator()(int a, int b, double* time, double* energy) const {
+    const int ia = a % grid_.n_rot, ja = a / grid_.n_rot, ib = b % grid_.n_rot,
+              jb = b / grid_.n_rot;
+    const double rot = angleBetween(grid_.rotation(ia), grid_.rotation(ib));
+    const double ext = std::abs(grid_.extension(ja) - grid_.extension(jb));
+    const double lift = std::max(0.0, need_[std::size_t(b)] - need_[std::size_t(a)]);
     const double horizontal =
-        std::max(rot / model.rotation_speed_rad_s, ext / model.extension_speed_m_s);
-    *time = std::max(horizontal, lift / model.vertical_speed_m_s);
-    *energy = energy_rate * horizontal + lift_j_per_m * lift;
-    return *time + o.power_time_ratio * *energy / energy_rate;
-  };
-  auto heuristic = [&](int a) {
-    const double rot =
-        angleBetween(grid.rotation(a % grid.n_rot), grid.rotation(target % grid.n_rot));
-    const double ext =
-        std::abs(grid.extension(a / grid.n_rot) - grid.extension(target / grid.n_rot));
-    const double t = std::max(rot / model.rotation_speed_rad_s, ext / model.extension_speed_m_s);
-    return t * (1.0 + o.power_time_ratio);
-  };
+        std::max(rot / model_.rotation_speed_rad_s, ext / model_.extension_speed_m_s);
+    *time = std::max(horizontal, lift / model_.vertical_speed_m_s);
+    *energy = model_.recovery_power_w * horizontal + lift_j_per_m() * lift;
+    return *time + o_.power_time_ratio * *energy / model_.recovery_power_w;
+  }
 
+  // A lower bound of the cost from `a` to `target`: the horizontal joints'
+  // time alone, with its energy.
+  double toward(int a, int target) const {
+    const double rot =
+        angleBetween(grid_.rotation(a % grid_.n_rot), grid_.rotation(target % grid_.n_rot));
+    const double ext =
+        std::abs(grid_.extension(a / grid_.n_rot) - grid_.extension(target / grid_.n_rot));
+    const double t =
+        std::max(rot / model_.rotation_speed_rad_s, ext / model_.extension_speed_m_s);
+    return t * (1.0 + o_.power_time_ratio);
+  }
+
+ private:
+  const RoverModel& model_;
+  const JointGrid& grid_;
+  const std::vector<double>& need_;
+  const RecoveryOptions& o_;
+};
+
+// A* over the joint grid (rotation wraps around) from `start` to `target`
+// through cells with a finite sole height: the cells of the cheapest path,
+// none when there is no path. `expanded` counts the cells expanded.
+std::vector<int> cheapestPath(const JointGrid& grid, const std::vector<double>& need,
+                              const MoveCost& cost_of, int start, int target, int& expanded) {
   std::vector<double> g(std::size_t(grid.size()), INFINITY);
   std::vector<int> parent(std::size_t(grid.size()), -1);
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
   g[std::size_t(start)] = 0.0;
-  open.push({heuristic(start), start});
+  open.push({cost_of.toward(start, target), start});
   while (!open.empty()) {
     const auto [f, a] = open.top();
     open.pop();
-    if (f > g[std::size_t(a)] + heuristic(a) + 1e-9) continue;  // stale entry
-    ++plan.expanded;
+    if (f > g[std::size_t(a)] + cost_of.toward(a, target) + 1e-9) continue;  // stale entry
+    ++expanded;
     if (a == target) break;
     const int ia = a % grid.n_rot, ja = a / grid.n_rot;
     for (int di = -1; di <= 1; ++di)
@@ -122,19 +134,48 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
         const int b = grid.index((ia + di + grid.n_rot) % grid.n_rot, jb);
         if (std::isinf(need[std::size_t(b)])) continue;
         double t, e;
-        const double cost = g[std::size_t(a)] + stepCost(a, b, &t, &e);
+        const double cost = g[std::size_t(a)] + cost_of(a, b, &t, &e);
         if (cost < g[std::size_t(b)]) {
           g[std::size_t(b)] = cost;
           parent[std::size_t(b)] = a;
-          open.push({cost + heuristic(b), b});
+          open.push({cost + cost_of.toward(b, target), b});
         }
       }
   }
-  if (std::isinf(g[std::size_t(target)])) return plan;
-
   std::vector<int> cells;
+  if (std::isinf(g[std::size_t(target)])) return cells;
   for (int c = target; c != -1; c = parent[std::size_t(c)]) cells.push_back(c);
   std::reverse(cells.begin(), cells.end());
+  return cells;
+}
+
+}  // namespace
+
+LegJoints liftOff(const LegJoints& standing, double vertical_m, const RoverModel& model) {
+  return {standing.rotation_rad,
+          std::clamp(standing.extension_m, model.extension_min_m, model.extension_max_m),
+          vertical_m};
+}
+
+RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int leg,
+                             const Eigen::Vector3d& goal, const ClearanceField& clearance,
+                             const RecoveryOptions& o, double touchdown_overshoot) {
+  RecoveryPlan plan;
+  const JointGrid grid(model, o);
+  auto need = soleHeightsNeeded(model, stance, leg, grid, clearance, o);
+  const LegJoints start_q = stance.joints(model, leg);
+  const LegJoints goal_q = model.jointsFor(leg, stance.body.toBody(goal));
+  const int start = grid.nearest(start_q), target = grid.nearest(goal_q);
+  const double start_z = stance.feet[std::size_t(leg)].z();
+  // Start and goal cells are where the foot is and will be: never blocked
+  // by the foot's own ground, only lifted to what the neighbours need.
+  for (int c : {start, target})
+    if (std::isinf(need[std::size_t(c)]))
+      need[std::size_t(c)] = stance.body.link_z - model.vertical_min_m;
+  const MoveCost cost_of(model, grid, need, o);
+  const auto cells = cheapestPath(grid, need, cost_of, start, target, plan.expanded);
+  if (cells.empty()) return plan;
+
   // The sole height over a cell covers its neighbours on the path, so the
   // straight joint-space segments between waypoints stay clear.
   auto soleAt = [&](std::size_t k) {
@@ -152,7 +193,7 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
                               stance.body.link_z - std::max(soleAt(k), start_z + o.clearance_m)});
     if (k > 0) {
       double t, e;
-      stepCost(cells[k - 1], c, &t, &e);
+      cost_of(cells[k - 1], c, &t, &e);
       time += t;
       energy += e;
     }
@@ -169,7 +210,7 @@ RecoveryPlan planLegRecovery(const RoverModel& model, const Stance& stance, int 
     plan.max_lift_m = std::max(plan.max_lift_m, stance.body.link_z - q.vertical_m - start_z);
   const double lift = first - start_z;
   plan.time_s = time + lift / model.vertical_speed_m_s;
-  plan.energy_j = energy + lift_j_per_m * lift;
+  plan.energy_j = energy + cost_of.lift_j_per_m() * lift;
   plan.found = true;
   return plan;
 }
