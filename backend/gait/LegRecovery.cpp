@@ -97,8 +97,7 @@ class MoveCost {
         angleBetween(grid_.rotation(a % grid_.n_rot), grid_.rotation(target % grid_.n_rot));
     const double ext =
         std::abs(grid_.extension(a / grid_.n_rot) - grid_.extension(target / grid_.n_rot));
-    const double t =
-        std::max(rot / model_.rotation_speed_rad_s, ext / model_.extension_speed_m_s);
+    const double t = std::max(rot / model_.rotation_speed_rad_s, ext / model_.extension_speed_m_s);
     return t * (1.0 + o_.power_time_ratio);
   }
 

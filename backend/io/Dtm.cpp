@@ -101,66 +101,89 @@ double cellMean(const Source& s, double x_lo, double y_lo, double size) {
   return n ? sum / n : NAN;
 }
 
-}  // namespace
+// A north-up raster's pixel grid in metres: pixel (i, j) spans
+// [x0 + j dx, x0 + (j + 1) dx] x [y0 + i dy, y0 + (i + 1) dy].
+struct RasterGrid {
+  int rows = 0, cols = 0;
+  double x0 = 0, y0 = 0, dx = 1, dy = -1;
 
-Dtm readDtm(const std::filesystem::path& path, const DtmWindow& window) {
-  registerDrivers();
-  Dataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!ds) fail(path, std::string("not a raster GDAL can read: ") + CPLGetLastErrorMsg());
-  if (ds->GetRasterCount() < 1) fail(path, "has no raster band");
+  Box2 extent() const {
+    return {std::min(x0, x0 + cols * dx), std::min(y0, y0 + rows * dy),
+            std::max(x0, x0 + cols * dx), std::max(y0, y0 + rows * dy)};
+  }
+};
+
+RasterGrid rasterGrid(const std::filesystem::path& path, GDALDataset& ds) {
   double gt[6];
-  if (ds->GetGeoTransform(gt) != CE_None) fail(path, "has no geotransform (pixel size unknown)");
+  if (ds.GetGeoTransform(gt) != CE_None) fail(path, "has no geotransform (pixel size unknown)");
   if (gt[2] != 0.0 || gt[4] != 0.0) fail(path, "is rotated; only north-up rasters are read");
   if (gt[1] == 0.0 || gt[5] == 0.0) fail(path, "has a zero pixel size");
-  const double unit = horizontalUnit(path, ds->GetSpatialRef());
-  auto* band = ds->GetRasterBand(1);
-  const double z_unit = heightUnit(path, band->GetUnitType());
-  int has_scale = 0, has_offset = 0, has_nodata = 0;
-  const double scale = band->GetScale(&has_scale), offset = band->GetOffset(&has_offset);
-  const double nodata = band->GetNoDataValue(&has_nodata);
+  const double unit = horizontalUnit(path, ds.GetSpatialRef());
+  return {ds.GetRasterYSize(), ds.GetRasterXSize(), gt[0] * unit, gt[3] * unit, gt[1] * unit,
+          gt[5] * unit};
+}
 
-  const int cols = ds->GetRasterXSize(), rows = ds->GetRasterYSize();
-  const double dx = gt[1] * unit, dy = gt[5] * unit, x0 = gt[0] * unit, y0 = gt[3] * unit;
-  const Box2 raster{std::min(x0, x0 + cols * dx), std::min(y0, y0 + rows * dy),
-                    std::max(x0, x0 + cols * dx), std::max(y0, y0 + rows * dy)};
-  const Eigen::Vector2d centre = window.centre.value_or(
+// The part of the raster the window asks for: its centre, size and the
+// cell size of the result, defaults filled in from the raster.
+struct WantedWindow {
+  Eigen::Vector2d centre;
+  double width = 0, height = 0, resolution = 0;
+  Box2 box() const {
+    return {centre.x() - width / 2, centre.y() - height / 2, centre.x() + width / 2,
+            centre.y() + height / 2};
+  }
+};
+
+WantedWindow wantedWindow(const std::filesystem::path& path, const RasterGrid& g,
+                          const DtmWindow& window) {
+  const Box2 raster = g.extent();
+  WantedWindow w;
+  w.centre = window.centre.value_or(
       Eigen::Vector2d(0.5 * (raster.x_min + raster.x_max), 0.5 * (raster.y_min + raster.y_max)));
-  const double width = window.width > 0 ? window.width : raster.width();
-  const double height = window.height > 0 ? window.height : raster.height();
-  const double res = window.resolution > 0 ? window.resolution : std::abs(dx);
+  w.width = window.width > 0 ? window.width : raster.width();
+  w.height = window.height > 0 ? window.height : raster.height();
+  w.resolution = window.resolution > 0 ? window.resolution : std::abs(g.dx);
   if (!(window.resolution >= 0) || !(window.width >= 0) || !(window.height >= 0) ||
-      !std::isfinite(centre.x()) || !std::isfinite(centre.y()))
+      !std::isfinite(w.centre.x()) || !std::isfinite(w.centre.y()))
     fail(path, "window or resolution is negative or not a number");
-  const Box2 wanted{centre.x() - width / 2, centre.y() - height / 2, centre.x() + width / 2,
-                    centre.y() + height / 2};
+  const Box2 wanted = w.box();
   if (wanted.x_max <= raster.x_min || wanted.x_min >= raster.x_max ||
       wanted.y_max <= raster.y_min || wanted.y_min >= raster.y_max)
     fail(path, "the window lies off the raster");
-  if (width / res * (height / res) > kMaxCells)
+  if (w.width / w.resolution * (w.height / w.resolution) > kMaxCells)
     fail(path, "the window holds over 2^28 cells at this resolution");
+  return w;
+}
 
-  // The source pixels under the window, with one pixel of margin.
-  auto col = [&](double x) { return (x - x0) / dx; };
-  auto row = [&](double y) { return (y - y0) / dy; };
-  const int j0 =
-      std::clamp(int(std::floor(std::min(col(wanted.x_min), col(wanted.x_max)))) - 1, 0, cols - 1);
-  const int j1 =
-      std::clamp(int(std::ceil(std::max(col(wanted.x_min), col(wanted.x_max)))) + 1, 0, cols - 1);
-  const int i0 =
-      std::clamp(int(std::floor(std::min(row(wanted.y_min), row(wanted.y_max)))) - 1, 0, rows - 1);
-  const int i1 =
-      std::clamp(int(std::ceil(std::max(row(wanted.y_min), row(wanted.y_max)))) + 1, 0, rows - 1);
+// The source pixels under `wanted`, with one pixel of margin, in metres
+// (the band's scale and offset applied, then its unit, `z_unit` metres)
+// and NaN for no-data.
+Source readSource(const std::filesystem::path& path, GDALRasterBand& band, double z_unit,
+                  const RasterGrid& g, const Box2& wanted) {
+  int has_scale = 0, has_offset = 0, has_nodata = 0;
+  const double scale = band.GetScale(&has_scale), offset = band.GetOffset(&has_offset);
+  const double nodata = band.GetNoDataValue(&has_nodata);
+  auto col = [&](double x) { return (x - g.x0) / g.dx; };
+  auto row = [&](double y) { return (y - g.y0) / g.dy; };
+  const int j0 = std::clamp(int(std::floor(std::min(col(wanted.x_min), col(wanted.x_max)))) - 1,
+                            0, g.cols - 1);
+  const int j1 = std::clamp(int(std::ceil(std::max(col(wanted.x_min), col(wanted.x_max)))) + 1,
+                            0, g.cols - 1);
+  const int i0 = std::clamp(int(std::floor(std::min(row(wanted.y_min), row(wanted.y_max)))) - 1,
+                            0, g.rows - 1);
+  const int i1 = std::clamp(int(std::ceil(std::max(row(wanted.y_min), row(wanted.y_max)))) + 1,
+                            0, g.rows - 1);
   Source s;
   s.cols = j1 - j0 + 1;
   s.rows = i1 - i0 + 1;
   if (double(s.cols) * s.rows > kMaxCells) fail(path, "the window covers over 2^28 DTM pixels");
-  s.dx = dx;
-  s.dy = dy;
-  s.x0 = x0 + j0 * dx;
-  s.y0 = y0 + i0 * dy;
+  s.dx = g.dx;
+  s.dy = g.dy;
+  s.x0 = g.x0 + j0 * g.dx;
+  s.y0 = g.y0 + i0 * g.dy;
   std::vector<double> raw(std::size_t(s.cols) * s.rows);
-  if (band->RasterIO(GF_Read, j0, i0, s.cols, s.rows, raw.data(), s.cols, s.rows, GDT_Float64, 0,
-                     0) != CE_None)
+  if (band.RasterIO(GF_Read, j0, i0, s.cols, s.rows, raw.data(), s.cols, s.rows, GDT_Float64, 0,
+                    0) != CE_None)
     fail(path, std::string("cannot read its pixels: ") + CPLGetLastErrorMsg());
   s.z.resize(raw.size());
   for (std::size_t k = 0; k < raw.size(); ++k) {
@@ -172,20 +195,36 @@ Dtm readDtm(const std::filesystem::path& path, const DtmWindow& window) {
             ? NAN
             : float(((has_scale ? scale : 1.0) * raw[k] + (has_offset ? offset : 0.0)) * z_unit);
   }
+  return s;
+}
+
+}  // namespace
+
+Dtm readDtm(const std::filesystem::path& path, const DtmWindow& window) {
+  registerDrivers();
+  Dataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!ds) fail(path, std::string("not a raster GDAL can read: ") + CPLGetLastErrorMsg());
+  if (ds->GetRasterCount() < 1) fail(path, "has no raster band");
+  const RasterGrid raster = rasterGrid(path, *ds);
+  auto& band = *ds->GetRasterBand(1);
+  const double z_unit = heightUnit(path, band.GetUnitType());
+  const WantedWindow w = wantedWindow(path, raster, window);
+  const Source s = readSource(path, band, z_unit, raster, w.box());
 
   Dtm dtm;
   dtm.driver = ds->GetDriverName();
-  dtm.centre = centre;
+  dtm.centre = w.centre;
+  const double res = w.resolution;
   dtm.grid.resolution = res;
-  dtm.grid.cols = std::max(1, int(std::floor(width / res + 1e-9)));
-  dtm.grid.rows = std::max(1, int(std::floor(height / res + 1e-9)));
+  dtm.grid.cols = std::max(1, int(std::floor(w.width / res + 1e-9)));
+  dtm.grid.rows = std::max(1, int(std::floor(w.height / res + 1e-9)));
   dtm.grid.origin_x = -0.5 * dtm.grid.cols * res;
   dtm.grid.origin_y = -0.5 * dtm.grid.rows * res;
   dtm.heights = FloatImage(dtm.grid.rows, dtm.grid.cols);
-  const bool average = res > 1.5 * std::abs(dx) || res > 1.5 * std::abs(dy);
+  const bool average = res > 1.5 * std::abs(s.dx) || res > 1.5 * std::abs(s.dy);
   for (int r = 0; r < dtm.grid.rows; ++r)
     for (int c = 0; c < dtm.grid.cols; ++c) {
-      const Eigen::Vector2d p = dtm.grid.cellCenter(r, c) + centre;
+      const Eigen::Vector2d p = dtm.grid.cellCenter(r, c) + w.centre;
       dtm.heights(r, c) = float(average ? cellMean(s, p.x() - res / 2, p.y() - res / 2, res)
                                         : bilinear(s, p.x(), p.y()));
     }
