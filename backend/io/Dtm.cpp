@@ -119,8 +119,8 @@ RasterGrid rasterGrid(const std::filesystem::path& path, GDALDataset& ds) {
   if (gt[2] != 0.0 || gt[4] != 0.0) fail(path, "is rotated; only north-up rasters are read");
   if (gt[1] == 0.0 || gt[5] == 0.0) fail(path, "has a zero pixel size");
   const double unit = horizontalUnit(path, ds.GetSpatialRef());
-  return {ds.GetRasterYSize(), ds.GetRasterXSize(), gt[0] * unit, gt[3] * unit, gt[1] * unit,
-          gt[5] * unit};
+  return {ds.GetRasterYSize(), ds.GetRasterXSize(), gt[0] * unit,
+          gt[3] * unit,        gt[1] * unit,        gt[5] * unit};
 }
 
 // The part of the raster the window asks for: its centre, size and the
@@ -165,14 +165,14 @@ Source readSource(const std::filesystem::path& path, GDALRasterBand& band, doubl
   const double nodata = band.GetNoDataValue(&has_nodata);
   auto col = [&](double x) { return (x - g.x0) / g.dx; };
   auto row = [&](double y) { return (y - g.y0) / g.dy; };
-  const int j0 = std::clamp(int(std::floor(std::min(col(wanted.x_min), col(wanted.x_max)))) - 1,
-                            0, g.cols - 1);
-  const int j1 = std::clamp(int(std::ceil(std::max(col(wanted.x_min), col(wanted.x_max)))) + 1,
-                            0, g.cols - 1);
-  const int i0 = std::clamp(int(std::floor(std::min(row(wanted.y_min), row(wanted.y_max)))) - 1,
-                            0, g.rows - 1);
-  const int i1 = std::clamp(int(std::ceil(std::max(row(wanted.y_min), row(wanted.y_max)))) + 1,
-                            0, g.rows - 1);
+  const int j0 = std::clamp(int(std::floor(std::min(col(wanted.x_min), col(wanted.x_max)))) - 1, 0,
+                            g.cols - 1);
+  const int j1 =
+      std::clamp(int(std::ceil(std::max(col(wanted.x_min), col(wanted.x_max)))) + 1, 0, g.cols - 1);
+  const int i0 = std::clamp(int(std::floor(std::min(row(wanted.y_min), row(wanted.y_max)))) - 1, 0,
+                            g.rows - 1);
+  const int i1 =
+      std::clamp(int(std::ceil(std::max(row(wanted.y_min), row(wanted.y_max)))) + 1, 0, g.rows - 1);
   Source s;
   s.cols = j1 - j0 + 1;
   s.rows = i1 - i0 + 1;

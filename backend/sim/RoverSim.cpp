@@ -95,7 +95,9 @@ void RoverSim::record(double* min_margin, int lifted) {
   trace_.push_back(std::move(s));
 }
 
-MoveReport RoverSim::executeLeg(const LegMove& move) {
+namespace {
+
+void checkLegMove(const LegMove& move) {
   if (move.leg < 0 || move.leg >= gait::kLegCount)
     throw std::invalid_argument("leg move: leg " + std::to_string(move.leg) + " is not 0-5");
   if (move.waypoints.empty()) throw std::invalid_argument("leg move: no waypoints");
@@ -103,79 +105,92 @@ MoveReport RoverSim::executeLeg(const LegMove& move) {
     if (!std::isfinite(w.rotation_rad) || !std::isfinite(w.extension_m) ||
         !std::isfinite(w.vertical_m))
       throw std::invalid_argument("leg move: waypoint is not finite");
+}
+
+}  // namespace
+
+Eigen::Vector3d RoverSim::footAt(int leg, const gait::LegJoints& joints) const {
+  return truth_.body.toWorld(model_.footInBody(leg, joints));
+}
+
+bool RoverSim::nearASupportingFoot(const Eigen::Vector3d& foot) const {
+  for (int i = 0; i < gait::kLegCount; ++i)
+    if (truth_.supporting[std::size_t(i)] &&
+        (truth_.feet[std::size_t(i)] - foot).head<2>().norm() < model_.foot_diameter_m)
+      return true;
+  return false;
+}
+
+// Moves the lifted leg from `q` towards `target` (clamped to the joint
+// limits) in steps of at most 2 cm of travel, until it gets there or its
+// sole meets the ground: a touch-down on the last segment, an unexpected
+// contact before it. Returns whether it met the ground; `q` is where it
+// stopped.
+bool RoverSim::followSegment(int leg, gait::LegJoints& q, gait::LegJoints target,
+                             bool touch_down, MoveReport& report) const {
+  if (!model_.withinLimits(target)) report.event = "kinematic limit";
+  target.extension_m =
+      std::clamp(target.extension_m, model_.extension_min_m, model_.extension_max_m);
+  target.vertical_m = std::clamp(target.vertical_m, model_.vertical_min_m, model_.vertical_max_m);
+  const double d_rot = std::remainder(target.rotation_rad - q.rotation_rad, 2 * M_PI);
+  const double d_ext = target.extension_m - q.extension_m,
+               d_vert = target.vertical_m - q.vertical_m;
+  const double seg_time = std::max({std::abs(d_rot) / model_.rotation_speed_rad_s,
+                                    std::abs(d_ext) / model_.extension_speed_m_s,
+                                    std::abs(d_vert) / model_.vertical_speed_m_s});
+  const double travel =
+      std::max({std::abs(d_rot) * model_.extension_max_m, std::abs(d_ext), std::abs(d_vert)});
+  const int n = std::max(1, int(std::ceil(travel / 0.02)));
+  bool hit_leg = false;
+  for (int s = 1; s <= n; ++s) {
+    const double t = double(s) / n;
+    const gait::LegJoints qs{q.rotation_rad + t * d_rot, q.extension_m + t * d_ext,
+                             q.vertical_m + t * d_vert};
+    const Eigen::Vector3d foot = footAt(leg, qs);
+    const double ground = soleClearanceNeeded(foot.head<2>());
+    if (!hit_leg && nearASupportingFoot(foot)) {
+      hit_leg = true;
+      ++report.collisions;
+    }
+    if (foot.z() < ground - 1e-3) {
+      if (!touch_down) {
+        ++report.collisions;
+        report.event = "unexpected contact";
+        report.completed = false;
+      } else {
+        report.event = "touch-down";
+      }
+      report.duration_s += seg_time * t;
+      q = qs;
+      return true;
+    }
+  }
+  q = target;
+  report.duration_s += seg_time;
+  return false;
+}
+
+MoveReport RoverSim::executeLeg(const LegMove& move) {
+  checkLegMove(move);
   MoveReport report;
   const auto leg = std::size_t(move.leg);
   truth_.supporting[leg] = false;
   record(&report.min_csp_margin_m);
-  const gait::BodyPose& body = truth_.body;
   gait::LegJoints q = truth_.joints(model_, move.leg);
-  bool touched = false;
-  auto footAt = [&](const gait::LegJoints& j) {
-    return body.toWorld(model_.footInBody(move.leg, j));
-  };
-  auto otherLegTooClose = [&](const Eigen::Vector3d& foot) {
-    for (int i = 0; i < gait::kLegCount; ++i)
-      if (truth_.supporting[std::size_t(i)] &&
-          (truth_.feet[std::size_t(i)] - foot).head<2>().norm() < model_.foot_diameter_m)
-        return true;
-    return false;
-  };
   // The final segment is the touch-down: contact there ends the move.
-  for (std::size_t k = 0; k < move.waypoints.size() && !touched; ++k) {
-    gait::LegJoints target = move.waypoints[k];
-    if (!model_.withinLimits(target)) report.event = "kinematic limit";
-    target.extension_m =
-        std::clamp(target.extension_m, model_.extension_min_m, model_.extension_max_m);
-    target.vertical_m = std::clamp(target.vertical_m, model_.vertical_min_m, model_.vertical_max_m);
-    const double d_rot = std::remainder(target.rotation_rad - q.rotation_rad, 2 * M_PI);
-    const double d_ext = target.extension_m - q.extension_m,
-                 d_vert = target.vertical_m - q.vertical_m;
-    const double seg_time = std::max({std::abs(d_rot) / model_.rotation_speed_rad_s,
-                                      std::abs(d_ext) / model_.extension_speed_m_s,
-                                      std::abs(d_vert) / model_.vertical_speed_m_s});
-    const double travel =
-        std::max({std::abs(d_rot) * model_.extension_max_m, std::abs(d_ext), std::abs(d_vert)});
-    const int n = std::max(1, int(std::ceil(travel / 0.02)));
-    const bool touch_down = k + 1 == move.waypoints.size();
-    bool hit_leg = false;
-    for (int s = 1; s <= n; ++s) {
-      const double t = double(s) / n;
-      const gait::LegJoints qs{q.rotation_rad + t * d_rot, q.extension_m + t * d_ext,
-                               q.vertical_m + t * d_vert};
-      const Eigen::Vector3d foot = footAt(qs);
-      const double ground = soleClearanceNeeded(foot.head<2>());
-      if (!hit_leg && otherLegTooClose(foot)) {
-        hit_leg = true;
-        ++report.collisions;
-      }
-      if (foot.z() < ground - 1e-3) {
-        if (!touch_down) {
-          ++report.collisions;
-          report.event = "unexpected contact";
-          report.completed = false;
-        } else {
-          report.event = "touch-down";
-        }
-        report.duration_s += seg_time * t;
-        q = qs;
-        touched = true;
-        break;
-      }
-    }
-    if (!touched) {
-      q = target;
-      report.duration_s += seg_time;
-    }
-  }
+  bool touched = false;
+  for (std::size_t k = 0; k < move.waypoints.size() && !touched; ++k)
+    touched = followSegment(move.leg, q, move.waypoints[k], k + 1 == move.waypoints.size(), report);
   // Land where the leg stopped (the controller lowers it to contact), off
   // by the tracking error.
   std::normal_distribution<double> err(0.0, noise_.placement_m);
-  Eigen::Vector3d foot = footAt(q);
+  Eigen::Vector3d foot = footAt(move.leg, q);
   foot.x() += err(rng_);
   foot.y() += err(rng_);
   foot.z() = soleClearanceNeeded(foot.head<2>());
   if (!touched)
-    report.duration_s += std::max(0.0, footAt(q).z() - foot.z()) / model_.vertical_speed_m_s;
+    report.duration_s +=
+        std::max(0.0, footAt(move.leg, q).z() - foot.z()) / model_.vertical_speed_m_s;
   truth_.feet[leg] = foot;
   truth_.supporting[leg] = true;
   if (!model_.withinLimits(truth_.joints(model_, move.leg))) report.event = "kinematic limit";

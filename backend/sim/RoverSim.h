@@ -93,6 +93,11 @@ class RoverSim {
   double soleClearanceNeeded(const Eigen::Vector2d& xy) const;
   [[nodiscard]] bool slideSole(Eigen::Vector3d& sole, const Eigen::Vector2d& to) const;
   void record(double* min_margin, int lifted = -1);
+  Eigen::Vector3d footAt(int leg, const gait::LegJoints& joints) const;
+  // Within a foot's diameter of a supporting foot, across the ground.
+  bool nearASupportingFoot(const Eigen::Vector3d& foot) const;
+  bool followSegment(int leg, gait::LegJoints& q, gait::LegJoints target, bool touch_down,
+                     MoveReport& report) const;
   void creep(double distance_m);
 
   const Terrain& terrain_;
