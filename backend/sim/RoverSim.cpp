@@ -126,8 +126,8 @@ bool RoverSim::nearASupportingFoot(const Eigen::Vector3d& foot) const {
 // sole meets the ground: a touch-down on the last segment, an unexpected
 // contact before it. Returns whether it met the ground; `q` is where it
 // stopped.
-bool RoverSim::followSegment(int leg, gait::LegJoints& q, gait::LegJoints target,
-                             bool touch_down, MoveReport& report) const {
+bool RoverSim::followSegment(int leg, gait::LegJoints& q, gait::LegJoints target, bool touch_down,
+                             MoveReport& report) const {
   if (!model_.withinLimits(target)) report.event = "kinematic limit";
   target.extension_m =
       std::clamp(target.extension_m, model_.extension_min_m, model_.extension_max_m);
