@@ -57,6 +57,16 @@ namespace {
 
 using ambler::gs::test::options;
 
+// The pointer over `at` in `view`, as a mouse move event delivered at once.
+// QTest::mouseMove moves the display's one pointer, which the other widget
+// tests that ctest runs beside this one on the same X server move too: the
+// readout then follows their moves.
+void hover(MapView& view, const QPoint& at) {
+  QMouseEvent move(QEvent::MouseMove, at, view.mapToGlobal(at), Qt::NoButton, Qt::NoButton,
+                   Qt::NoModifier);
+  QApplication::sendEvent(&view, &move);
+}
+
 // The station as an operator has it: the main window shown, its logs in a
 // folder of the test's own.
 struct Console {
@@ -261,16 +271,13 @@ class GroundStationTest : public QObject {
     // The composite cost the planner chose it from reads out under the mouse,
     // and the leg's path ends there.
     c.map.setShown(MapView::Shown::kComposite);
-    // From a pixel beside it: a move to where the pointer already is sends
-    // no event.
     const QPoint at = c.map.widgetPointOf(planned).toPoint();
     // The readout needs the walk's cost maps from a worker; with other tests
     // keeping both cores busy it once took 14 s on CI: the same patience as
     // the other waits on the walk.
     QTRY_VERIFY2_WITH_TIMEOUT(
         [&] {
-          QTest::mouseMove(&c.map, at + QPoint(3, 3));
-          QTest::mouseMove(&c.map, at);
+          hover(c.map, at);
           return c.map.readout().contains("composite cost");
         }(),
         qPrintable(c.map.readout()), 30000);
