@@ -195,7 +195,7 @@ class LocusSolver {
   double cos_crest_ = 1.0;        // cos(LocusOptions::crest_max_angle_deg)
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
-  std::vector<double> sin_phi_, cos_phi_;  // per scanline
+  const double *sin_phi_, *cos_phi_;  // per scanline (LocusTables::sinPhi(), cosPhi())
   // 1 / (b_z cos(phi) - b_y sin(phi)) per scanline: every line shares the
   // direction b, so the denominator of eq. 2 depends on the scanline only.
   // NaN for a scanline whose plane holds b: every line point on it is NaN,
@@ -225,8 +225,8 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
       undecided_steps_(options.undecided_before_shadow),
       far_end_share_(options.undecided_shadow_far_end),
       cos_crest_(std::cos(options.crest_max_angle_deg * M_PI / 180)),
-      sin_phi_(tables_.sinPhi()),
-      cos_phi_(tables_.cosPhi()),
+      sin_phi_(tables_.sinPhi().data()),
+      cos_phi_(tables_.cosPhi().data()),
       range_(tables_.ranges().data()),
       column_table_(columnTable(image.geometry)),
       row_table_(rowTable(image.geometry)) {

@@ -36,6 +36,7 @@
 #include "sim/ObstacleCourse.h"
 #include "sim/StriperSim.h"
 #include "tests/app/TestStation.h"
+#include "tests/widgets/Hover.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/DangerPanel.h"
 #include "widgets/MapView.h"
@@ -56,16 +57,7 @@ using ambler::widgets::StepApprovalPanel;
 namespace {
 
 using ambler::gs::test::options;
-
-// The pointer over `at` in `view`, as a mouse move event delivered at once.
-// QTest::mouseMove moves the display's one pointer, which the other widget
-// tests that ctest runs beside this one on the same X server move too: the
-// readout then follows their moves.
-void hover(MapView& view, const QPoint& at) {
-  QMouseEvent move(QEvent::MouseMove, at, view.mapToGlobal(at), Qt::NoButton, Qt::NoButton,
-                   Qt::NoModifier);
-  QApplication::sendEvent(&view, &move);
-}
+using ambler::test::hover;
 
 // The station as an operator has it: the main window shown, its logs in a
 // folder of the test's own.

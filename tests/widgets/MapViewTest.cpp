@@ -4,6 +4,7 @@
 #include <QImage>
 #include <QtTest/QtTest>
 
+#include "tests/widgets/Hover.h"
 #include "widgets/MapView.h"
 
 using ambler::GridSpec;
@@ -11,14 +12,7 @@ using ambler::terrain::CellState;
 using ambler::terrain::ElevationMap;
 using ambler::widgets::MapView;
 
-// The pointer over `at` in `view`, as a mouse move event delivered at once.
-// QTest::mouseMove moves the display's one pointer, which the other widget
-// tests that ctest runs beside this one on the same X server move too.
-void hover(MapView& view, const QPoint& at) {
-  QMouseEvent move(QEvent::MouseMove, at, view.mapToGlobal(at), Qt::NoButton, Qt::NoButton,
-                   Qt::NoModifier);
-  QApplication::sendEvent(&view, &move);
-}
+using ambler::test::hover;
 
 class MapViewTest : public QObject {
   Q_OBJECT
