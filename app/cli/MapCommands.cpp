@@ -101,6 +101,11 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "cells between samples farther apart on the ground are unknown [m]; inf: off")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd.add_option("--curved-between-scanlines", locus.curved_between_scanlines,
+                 "the surface between two scanlines follows a spline through them and the "
+                 "scanlines either side, not their chord; false: the paper's bilinear surface "
+                 "(true/false)")
+      ->capture_default_str();
   cmd.add_option("--undecided-before-shadow", locus.undecided_before_shadow,
                  "shadow cells closer to the occluder's last sample than this many of the "
                  "samples' steps before it are unknown: the edge may lie there [steps]; 0: off")

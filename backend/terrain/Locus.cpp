@@ -164,6 +164,7 @@ class LocusSolver {
                     int quad_col) const;
   Band followBand(const Line& line, int down, const Bracket& br) const;
   double rangeAt(int upper, int lower, double u, double col, int& quad_col) const;
+  double rowCurvatureShift(const Bracket& br, double u, double col, int quad_col) const;
   double noiseOfRange(int upper, int lower, double u, double col) const;
   double imageRangeOnRow(int row, double col) const;
   bool passesInFreeSpace(const RowSample& n) const;
@@ -204,6 +205,7 @@ class LocusSolver {
   // The image's ranges with NaN where a pixel has no return
   // (LocusTables::ranges()).
   const double* range_ = nullptr;
+  const double* row_curvature_ = nullptr;  // LocusTables::rowCurvature()
   // Bisection halves the step from one scanline to the next at each level;
   // sin and cos of those half steps turn phi without calling sin/cos.
   std::vector<double> sin_half_, cos_half_;
@@ -219,7 +221,7 @@ class LocusSolver {
 LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, double epsilon_rad,
                          const LocusOptions& options)
     : image_(image),
-      tables_(image, edges, options.max_sample_spacing_m),
+      tables_(image, edges, options.max_sample_spacing_m, options.curved_between_scanlines),
       edges_(edges),
       g_(image.geometry),
       undecided_steps_(options.undecided_before_shadow),
@@ -228,6 +230,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
       sin_phi_(tables_.sinPhi().data()),
       cos_phi_(tables_.cosPhi().data()),
       range_(tables_.ranges().data()),
+      row_curvature_(tables_.rowCurvature().data()),
       column_table_(columnTable(image.geometry)),
       row_table_(rowTable(image.geometry)) {
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
@@ -518,7 +521,17 @@ CellResult LocusSolver::refine(const Line& line, Bracket& br) const {
   }
   // Across the last bracket (2h wide) f is linear to far below the range
   // noise: its root by linear interpolation.
-  const double w = 2 * h * f_lo / (f_lo - f_hi);
+  double w = 2 * h * f_lo / (f_lo - f_hi);
+  if (quad_col >= 0 && tables_.quadBends(std::min(br.upper.row, br.lower.row), quad_col)) {
+    // The surface lies `shift` farther along the ray than the chord: f there
+    // moves by -2 rho shift D^2, and the root with it along f's slope.
+    const double shift = rowCurvatureShift(br, u + w, col_upper + (u + w) * col_step, quad_col);
+    const double d = sign * w * std::abs(g_.phi_step);
+    const double den = line.b.z() * (cos_lo - sin_lo * d) - line.b.y() * (sin_lo + cos_lo * d);
+    w += 2 * imageRange(u + w) * shift * den * den * (2 * h) / (f_hi - f_lo);
+    // The spline meets both scanlines' samples, so its root is between them.
+    w = std::clamp(w, -u, 1 - u);
+  }
   const double d = sign * w * std::abs(g_.phi_step), d2 = d * d;
   const double sd = d * (1 - d2 / 6), cd = 1 - d2 / 2 + d2 * d2 / 24;  // |d| < 1e-3
   const double s = sin_lo * cd + cos_lo * sd, c = cos_lo * cd - sin_lo * sd;
@@ -526,6 +539,23 @@ CellResult LocusSolver::refine(const Line& line, Bracket& br) const {
   CellResult result = finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);
   result.row = br.upper.row + (u + w) * (br.lower.row - br.upper.row);
   return result;
+}
+
+// How much farther along the ray than the bilinear range at u (between the
+// bracket's scanlines, at column col) the Catmull-Rom spline through the
+// scanlines either side puts the surface: ground that bends between
+// scanlines meeting it tens of centimetres apart (rowCurvature(): second
+// differences beyond their noise).
+double LocusSolver::rowCurvatureShift(const Bracket& br, double u, double col, int quad_col) const {
+  const double fc = col - quad_col;
+  const double* upper = &row_curvature_[std::size_t(br.upper.row) * g_.cols + quad_col];
+  const double* lower = &row_curvature_[std::size_t(br.lower.row) * g_.cols + quad_col];
+  const double d_upper = upper[0] + fc * (upper[1] - upper[0]);
+  const double d_lower = lower[0] + fc * (lower[1] - lower[0]);
+  // One bend alone, or two of opposite signs, is a kink or an inflection,
+  // over which the spline overshoots: there the chord stands.
+  if (!(d_upper * d_lower > 0)) return 0.0;
+  return 0.5 * u * (u - 1) * ((1 - u) * d_upper + u * d_lower);
 }
 
 // Shadow, face, oblique or known; for a cell with a height, its sigma.

@@ -35,6 +35,14 @@ struct LocusOptions {
   // two samples lies within this angle of the ray through the last [deg]:
   // beyond a face's last sample the occluder may go on unseen.
   double crest_max_angle_deg = 60.0;
+  // Between the bracketing scanlines the surface follows a Catmull-Rom
+  // spline through them and the scanlines either side, not their chord: far
+  // ground bends between scanlines that meet it tens of centimetres apart.
+  // Second differences within three standard deviations of their noise
+  // count as none, so under noise nearly every cell keeps the chord, and
+  // so does a kink (the bracket's two of opposite signs, or one alone).
+  // Off: the paper's bilinear surface.
+  bool curved_between_scanlines = true;
   // Known cells beside a shadow across the line of sight (its sides, where
   // interpolation meets unseen ground) become oblique
   // (docs/elevation-maps.md).

@@ -14,7 +14,7 @@ constexpr double kSteepFaceCos = 0.26;
 }  // namespace
 
 LocusTables::LocusTables(const sensor::RangeImage& image, const OccludingEdges& edges,
-                         double max_sample_spacing_m)
+                         double max_sample_spacing_m, bool curved_rows)
     : image_(image), g_(image.geometry), cols_(image.geometry.cols) {
   origin_ = image.sensor_to_world.translation();
   for (int r = 0; r < g_.rows; ++r) {
@@ -25,7 +25,44 @@ LocusTables::LocusTables(const sensor::RangeImage& image, const OccludingEdges& 
   tabulateSteepFaces();
   tabulateSamplingSigma(quadsNearEdges(edges));
   markSparseQuads(max_sample_spacing_m);
+  if (curved_rows)
+    tabulateRowCurvature(edges);
+  else
+    bends_.assign(std::size_t(g_.rows - 1) * (g_.cols - 1), 0);
   findBorderGround(edges);
+}
+
+void LocusTables::tabulateRowCurvature(const OccludingEdges& edges) {
+  const int cols = g_.cols, quad_cols = cols - 1;
+  // A second difference within kCurvatureNoise of its own noise (three
+  // ranges', sqrt(6) k rho^2) is taken as none: only the ground's bends
+  // beyond the noise move the surface off the chord. NaN stays NaN.
+  const double noise = kCurvatureNoise * std::sqrt(6.0) * image_.range_sigma_k;
+  row_curvature_.assign(range_.size(), NAN);
+  for (int r = 1; r + 1 < g_.rows; ++r) {
+    const double* range = &range_[std::size_t(r) * cols];
+    double* out = &row_curvature_[std::size_t(r) * cols];
+    for (int c = 0; c < cols; ++c) {
+      const double d = range[c - cols] - 2 * range[c] + range[c + cols];
+      out[c] = std::abs(d) <= noise * range[c] * range[c] ? 0.0 : d;
+    }
+  }
+  // Nor does the surface go on across an edge or a face: NaN at its pixels.
+  for (int r = 0; r + 1 < g_.rows; ++r)
+    for (int c = 0; c < quad_cols; ++c)
+      if (edges.quadIsEdge(r, c) || isSteepFace(r, c)) {
+        double* d = &row_curvature_[std::size_t(r) * cols + c];
+        d[0] = d[1] = d[cols] = d[cols + 1] = NAN;
+      }
+  bends_.assign(std::size_t(g_.rows - 1) * quad_cols, 0);
+  for (int r = 0; r + 1 < g_.rows; ++r) {
+    const double* d = &row_curvature_[std::size_t(r) * cols];
+    std::uint8_t* bends = &bends_[std::size_t(r) * quad_cols];
+    for (int c = 0; c < quad_cols; ++c)  // false for NaN
+      bends[c] =
+          std::abs(d[c]) + std::abs(d[c + 1]) + std::abs(d[c + cols]) + std::abs(d[c + cols + 1]) >
+          0;
+  }
 }
 
 void LocusTables::tabulatePixels() {

@@ -10,6 +10,12 @@
 
 namespace ambler::terrain {
 
+// A pixel's second difference across scanlines within this many of its
+// noise's standard deviations is taken as none (rowCurvature()): set a
+// priori; on the tuning seeds no noisy map's RMSE moves by more than
+// 0.01 mm with it (docs/elevation-maps.md).
+inline constexpr double kCurvatureNoise = 3.0;
+
 // What the locus search reads of one range image beyond its ranges,
 // tabulated once per image: per pixel its point in the world and its reach,
 // per quad of pixels whether it is a steep face or too sparse to interpolate
@@ -18,9 +24,10 @@ namespace ambler::terrain {
 // cells share them (docs/elevation-maps.md, Speed).
 class LocusTables {
  public:
-  // `max_sample_spacing_m` as LocusOptions::max_sample_spacing_m.
+  // `max_sample_spacing_m` and `curved_rows` as LocusOptions::
+  // max_sample_spacing_m and curved_between_scanlines.
   LocusTables(const sensor::RangeImage& image, const OccludingEdges& edges,
-              double max_sample_spacing_m);
+              double max_sample_spacing_m, bool curved_rows);
 
   // Per scanline, sin and cos of its scan angle phi.
   const std::vector<double>& sinPhi() const { return sin_phi_; }
@@ -50,6 +57,19 @@ class LocusTables {
   // The quad's scanlines meet the ground farther apart than the limit.
   bool isSparse(int quad_row, int quad_col) const {
     return sparse_[std::size_t(quad_row) * (cols_ - 1) + quad_col] != 0;
+  }
+
+  // Per pixel, the second difference of the range across its scanline and
+  // the two either side [m]; NaN on the border scanlines, next to a pixel
+  // without a return, and where one of the four quads around the pixel is
+  // an occluding edge or a steep face, across which the surface does not
+  // go on; 0 where within kCurvatureNoise of its noise. Empty without
+  // curved_rows.
+  const std::vector<double>& rowCurvature() const { return row_curvature_; }
+  // Per quad: its four pixels' second differences are finite and one is
+  // not 0, so the surface across it is no chord (none without curved_rows).
+  bool quadBends(int quad_row, int quad_col) const {
+    return bends_[std::size_t(quad_row) * (cols_ - 1) + quad_col] != 0;
   }
 
   // Per image column, for the first (0) and the last (1) scanline: the
@@ -84,6 +104,7 @@ class LocusTables {
     return world_[p].z() - world_[p + 1].z() - world_[q].z() + world_[q + 1].z();
   }
   void markSparseQuads(double max_spacing_m);
+  void tabulateRowCurvature(const OccludingEdges& edges);
   // A run of border columns with continuous ranges, [first, last].
   struct BorderSurface {
     int first, last;
@@ -111,6 +132,8 @@ class LocusTables {
   std::vector<std::uint8_t> steep_;
   std::vector<double> sampling_sigma_;
   std::vector<std::uint8_t> sparse_;
+  std::vector<double> row_curvature_;
+  std::vector<std::uint8_t> bends_;
   std::array<std::vector<double>, 2> border_reach_, border_own_from_, border_own_to_;
 };
 

@@ -266,6 +266,80 @@ TEST(Locus, GroundBetweenSparseSamplesIsNotKnown) {
   EXPECT_GT(floor_known_before, 100);  // what the interpolation alone made of the trench
 }
 
+// z = amplitude sin(2 pi y / wavelength): swells across the line of sight.
+class SwellTerrain : public sim::Terrain {
+ public:
+  SwellTerrain(double amplitude, double wavelength) : a_(amplitude), k_(2 * M_PI / wavelength) {}
+  double height(double, double y) const override { return a_ * std::sin(k_ * y); }
+  double maxHeightIn(const Box2&) const override { return a_; }
+  Box2 extent() const override { return {-100, -100, 100, 100}; }
+
+ private:
+  double a_, k_;
+};
+
+struct HeightErrors {
+  double rms = 0.0;
+  int cells = 0;
+};
+
+HeightErrors errorsOf(const ElevationMap& map, const sim::Terrain& terrain) {
+  double sum = 0.0;
+  HeightErrors e;
+  for (int r = 0; r < map.grid().rows; ++r)
+    for (int c = 0; c < map.grid().cols; ++c)
+      if (map.isKnown(r, c)) {
+        const auto p = map.grid().cellCenter(r, c);
+        sum += std::pow(map.elevation(r, c) - terrain.height(p.x(), p.y()), 2);
+        ++e.cells;
+      }
+  e.rms = e.cells > 0 ? std::sqrt(sum / e.cells) : NAN;
+  return e;
+}
+
+// Swells 1.5 m long seen from 5 m: the scanlines meet the ground 0.1 to
+// 0.3 m apart, and their chords cut the swells' crests and troughs. The
+// spline through four scanlines follows the ground more closely (0.18
+// against 0.58 mm here).
+TEST(Locus, SplineBetweenScanlinesFollowsCurvedGroundBetterThanTheChord) {
+  const SwellTerrain swells(0.03, 1.5);
+  const sim::RayCaster caster(swells);
+  const auto m = scanner(0.0);
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 1);
+  LocusOptions chord;
+  chord.curved_between_scanlines = false;
+  const auto curved = errorsOf(buildLocusMap(image, kGrid), swells);
+  const auto bilinear = errorsOf(buildLocusMap(image, kGrid, chord), swells);
+  ASSERT_GT(curved.cells, kGrid.cellCount() / 2);
+  EXPECT_EQ(curved.cells, bilinear.cells);
+  EXPECT_LT(curved.rms, 0.4 * bilinear.rms) << curved.rms << " against " << bilinear.rms;
+  EXPECT_LT(curved.rms, 1e-3);
+}
+
+// Under range noise a second difference within three of its noise's
+// standard deviations is none: on noisy level ground almost every cell
+// keeps the chord's height (all 6,275 here).
+TEST(Locus, SplineBetweenScanlinesLeavesNoisyLevelGroundToTheChord) {
+  const PlaneTerrain plane(0, 0, 0);
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(5e-4);
+  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 3);
+  LocusOptions chord;
+  chord.curved_between_scanlines = false;
+  const auto curved = buildLocusMap(image, kGrid);
+  const auto bilinear = buildLocusMap(image, kGrid, chord);
+  int known = 0, moved = 0;
+  for (int r = 0; r < kGrid.rows; ++r)
+    for (int c = 0; c < kGrid.cols; ++c)
+      if (curved.isKnown(r, c)) {
+        ++known;
+        moved += curved.elevation(r, c) != bilinear.elevation(r, c);
+      }
+  ASSERT_GT(known, kGrid.cellCount() / 2);
+  EXPECT_LT(moved, known / 50) << moved << " of " << known;
+  EXPECT_LT(errorsOf(curved, plane).rms, 1.01 * errorsOf(bilinear, plane).rms);
+}
+
 // A noise-free 256 x 256 scan of a terrain family's tuning seed from 1.5 m
 // up, tilted 12 degrees, the region's grid at 5 cm, and the truth of which
 // of its cells the scanner saw.
