@@ -38,6 +38,14 @@ sim::ScannerModel scanner(double k) {
 
 const GridSpec kGrid = GridSpec::covering({-4, 6, 4, 14}, 0.1);
 
+// A scan of level ground at height 0 by scanner(k), standing on it.
+sensor::RangeImage levelGroundScan(double k, unsigned seed) {
+  const PlaneTerrain plane(0, 0, 0);
+  const sim::RayCaster caster(plane);
+  const auto m = scanner(k);
+  return sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), seed);
+}
+
 // Every cell in view of a noise-free scan of a plane is known and its
 // height is the plane's, whatever the plane's tilt and the sensor's pose.
 void expectExactPlane(const sim::Terrain& plane, const Eigen::Isometry3d& pose) {
@@ -321,9 +329,7 @@ TEST(Locus, SplineBetweenScanlinesFollowsCurvedGroundBetterThanTheChord) {
 // keeps the chord's height (all 6,275 here).
 TEST(Locus, SplineBetweenScanlinesLeavesNoisyLevelGroundToTheChord) {
   const PlaneTerrain plane(0, 0, 0);
-  const sim::RayCaster caster(plane);
-  const auto m = scanner(5e-4);
-  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 3);
+  const auto image = levelGroundScan(5e-4, 3);
   LocusOptions chord;
   chord.curved_between_scanlines = false;
   const auto curved = buildLocusMap(image, kGrid);
@@ -681,12 +687,8 @@ SquaredRatios ratiosFromLowScans(const PlaneTerrain& plane, sim::ScannerModel m,
 }
 
 TEST(Locus, SigmaMatchesTheObservedErrorOnNoisyFlatGround) {
-  const PlaneTerrain plane(0, 0, 0);
-  const sim::RayCaster caster(plane);
-  const auto m = scanner(2e-4);
-  const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 7);
   SquaredRatios ratios;
-  ratios.add(buildLocusMap(image, kGrid), plane);
+  ratios.add(buildLocusMap(levelGroundScan(2e-4, 7), kGrid), PlaneTerrain(0, 0, 0));
   ASSERT_GT(ratios.n, 1000);
   EXPECT_NEAR(ratios.rms(), 1.0, 0.2);
 }
