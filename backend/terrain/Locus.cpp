@@ -533,7 +533,7 @@ CellResult LocusSolver::refine(const Line& line, Bracket& br) const {
     w = std::clamp(w, -u, 1 - u);
   }
   const double d = sign * w * std::abs(g_.phi_step), d2 = d * d;
-  const double sd = d * (1 - d2 / 6), cd = 1 - d2 / 2 + d2 * d2 / 24;  // |d| < 1e-3
+  const double sd = d * (1 - d2 / 6), cd = 1 - d2 / 2 + d2 * d2 / 24;  // |d| <= one scanline step
   const double s = sin_lo * cd + cos_lo * sd, c = cos_lo * cd - sin_lo * sd;
   const double t = (line.a.y() * s - line.a.z() * c) / (line.b.z() * c - line.b.y() * s);
   CellResult result = finish(line, br, t, u + w, col_upper + (u + w) * col_step, used_quad_col);

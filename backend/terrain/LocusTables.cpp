@@ -35,16 +35,16 @@ LocusTables::LocusTables(const sensor::RangeImage& image, const OccludingEdges& 
 void LocusTables::tabulateRowCurvature(const OccludingEdges& edges) {
   const int cols = g_.cols, quad_cols = cols - 1;
   // A second difference within kCurvatureNoise of its own noise (three
-  // ranges', sqrt(6) k rho^2) is taken as none: only the ground's bends
+  // ranges', sqrt(6) times one's) is taken as none: only the ground's bends
   // beyond the noise move the surface off the chord. NaN stays NaN.
-  const double noise = kCurvatureNoise * std::sqrt(6.0) * image_.range_sigma_k;
+  const double sigmas = kCurvatureNoise * std::sqrt(6.0), k = image_.range_sigma_k;
   row_curvature_.assign(range_.size(), NAN);
   for (int r = 1; r + 1 < g_.rows; ++r) {
     const double* range = &range_[std::size_t(r) * cols];
     double* out = &row_curvature_[std::size_t(r) * cols];
     for (int c = 0; c < cols; ++c) {
       const double d = range[c - cols] - 2 * range[c] + range[c + cols];
-      out[c] = std::abs(d) <= noise * range[c] * range[c] ? 0.0 : d;
+      out[c] = std::abs(d) <= sigmas * sensor::rangeSigma(range[c], k) ? 0.0 : d;
     }
   }
   // Nor does the surface go on across an edge or a face: NaN at its pixels.

@@ -5,6 +5,7 @@
 #include "sim/ProceduralTerrain.h"
 #include "sim/ScannerSim.h"
 #include "sim/TerrainFamilies.h"
+#include "terrain/MapScore.h"
 
 namespace ambler::terrain {
 namespace {
@@ -286,23 +287,12 @@ class SwellTerrain : public sim::Terrain {
   double a_, k_;
 };
 
-struct HeightErrors {
-  double rms = 0.0;
-  int cells = 0;
-};
-
-HeightErrors errorsOf(const ElevationMap& map, const sim::Terrain& terrain) {
-  double sum = 0.0;
-  HeightErrors e;
-  for (int r = 0; r < map.grid().rows; ++r)
-    for (int c = 0; c < map.grid().cols; ++c)
-      if (map.isKnown(r, c)) {
-        const auto p = map.grid().cellCenter(r, c);
-        sum += std::pow(map.elevation(r, c) - terrain.height(p.x(), p.y()), 2);
-        ++e.cells;
-      }
-  e.rms = e.cells > 0 ? std::sqrt(sum / e.cells) : NAN;
-  return e;
+// The map's RMSE and known cells against the terrain's exact heights.
+MapScore scoreAgainst(const ElevationMap& map, const sim::Terrain& terrain) {
+  const GridSpec& g = map.grid();
+  MapScore score;
+  score.add(map, sim::sampleHeights(terrain, g), io::ByteImage(g.rows, g.cols, 0), false);
+  return score;
 }
 
 // Swells 1.5 m long seen from 5 m: the scanlines meet the ground 0.1 to
@@ -316,12 +306,13 @@ TEST(Locus, SplineBetweenScanlinesFollowsCurvedGroundBetterThanTheChord) {
   const auto image = sim::simulateScan(caster, m, m.mountPose({0, 0, 0}), 1);
   LocusOptions chord;
   chord.curved_between_scanlines = false;
-  const auto curved = errorsOf(buildLocusMap(image, kGrid), swells);
-  const auto bilinear = errorsOf(buildLocusMap(image, kGrid, chord), swells);
-  ASSERT_GT(curved.cells, kGrid.cellCount() / 2);
-  EXPECT_EQ(curved.cells, bilinear.cells);
-  EXPECT_LT(curved.rms, 0.4 * bilinear.rms) << curved.rms << " against " << bilinear.rms;
-  EXPECT_LT(curved.rms, 1e-3);
+  const auto curved = scoreAgainst(buildLocusMap(image, kGrid), swells);
+  const auto bilinear = scoreAgainst(buildLocusMap(image, kGrid, chord), swells);
+  ASSERT_GT(curved.knownCells(), kGrid.cellCount() / 2);
+  EXPECT_EQ(curved.knownCells(), bilinear.knownCells());
+  EXPECT_LT(*curved.rmse(), 0.4 * *bilinear.rmse())
+      << *curved.rmse() << " against " << *bilinear.rmse();
+  EXPECT_LT(*curved.rmse(), 1e-3);
 }
 
 // Under range noise a second difference within three of its noise's
@@ -343,7 +334,7 @@ TEST(Locus, SplineBetweenScanlinesLeavesNoisyLevelGroundToTheChord) {
       }
   ASSERT_GT(known, kGrid.cellCount() / 2);
   EXPECT_LT(moved, known / 50) << moved << " of " << known;
-  EXPECT_LT(errorsOf(curved, plane).rms, 1.01 * errorsOf(bilinear, plane).rms);
+  EXPECT_LT(*scoreAgainst(curved, plane).rmse(), 1.01 * *scoreAgainst(bilinear, plane).rmse());
 }
 
 // A noise-free 256 x 256 scan of a terrain family's tuning seed from 1.5 m
