@@ -86,7 +86,8 @@ def open3d_methods(o3d, voxel, distance):
 
 
 def summary(rows, name):
-    out = {"method": name}
+    out = {"method": name,
+           "has_verdict": any(r["verdict"] != "-" for r in rows if r["method"] == name)}
     for frame in ("levelled", "world"):
         mine = [r for r in rows if r["method"] == name and r["frame"] == frame]
         good = [r for r in mine if not r["foreign"]]
@@ -100,6 +101,8 @@ def summary(rows, name):
             "err_deg_max": max(r["err_deg"] for r in good) if good else None,
             "trusted_but_out_of_bounds": sum(r["verdict"] == "trusted" and not r["success"]
                                              for r in good),
+            "trusted_within_bounds": sum(r["verdict"] == "trusted" and r["success"]
+                                         for r in good),
             "foreign_refused": sum(r["refused"] for r in bad),
             "foreign": len(bad),
             "s_median": statistics.median(r["s"] for r in mine) if mine else None,
@@ -179,16 +182,19 @@ def main():
     print(f"{pairs['set']} pairs: {len([p for p in pairs['pairs'] if not p['foreign']])} "
           f"overlapping + {len([p for p in pairs['pairs'] if p['foreign']])} of two terrains")
     print("| method | error % of distance, median / max (levelled; world) | successes, "
-          "levelled + world | trusted out of bounds | foreign refused | wall time per pair, "
-          "median |")
+          "levelled + world | trusted: within / out of bounds | foreign refused | wall time per "
+          "pair, median |")
     print("|---|---|---|---|---|---|")
     for t in table:
         lv, wd = t["levelled"], t["world"]
         fmt = lambda v: "-" if v is None else f"{v:.2f}"
+        trusted = (f"{lv['trusted_within_bounds'] + wd['trusted_within_bounds']} / "
+                   f"{lv['trusted_but_out_of_bounds'] + wd['trusted_but_out_of_bounds']}"
+                   if t["has_verdict"] else "-")
         print(f"| {t['method']} | {fmt(lv['err_pct_median'])} / {fmt(lv['err_pct_max'])}; "
               f"{fmt(wd['err_pct_median'])} / {fmt(wd['err_pct_max'])} | "
               f"{lv['successes']}/{lv['pairs']} + {wd['successes']}/{wd['pairs']} | "
-              f"{lv['trusted_but_out_of_bounds'] + wd['trusted_but_out_of_bounds']} | "
+              f"{trusted} | "
               f"{lv['foreign_refused'] + wd['foreign_refused']}/{lv['foreign'] + wd['foreign']} | "
               f"{lv['s_median']:.3f} s |")
     if limit:
