@@ -36,8 +36,14 @@ struct HeightGrid {
     const double u = (xy.x() - x0) / cell - 0.5, v = (xy.y() - y0) / cell - 0.5;
     const int c = int(std::floor(u)), r = int(std::floor(v));
     const double fu = u - c, fv = v - r;
-    const double z00 = cellAt(c, r), z10 = cellAt(c + 1, r), z01 = cellAt(c, r + 1),
-                 z11 = cellAt(c + 1, r + 1);
+    double z00, z10, z01, z11;
+    if (c >= 0 && r >= 0 && c + 1 < cols && r + 1 < rows) {  // the search's usual case
+      const float* row = &z[std::size_t(r) * std::size_t(cols) + std::size_t(c)];
+      z00 = row[0], z10 = row[1], z01 = row[cols], z11 = row[cols + 1];
+    } else {
+      z00 = cellAt(c, r), z10 = cellAt(c + 1, r), z01 = cellAt(c, r + 1),
+      z11 = cellAt(c + 1, r + 1);
+    }
     if (std::isnan(z00 + z10 + z01 + z11)) return false;
     height = (1 - fv) * ((1 - fu) * z00 + fu * z10) + fv * ((1 - fu) * z01 + fu * z11);
     if (gradient)
@@ -155,18 +161,21 @@ Placement scored(const std::vector<Eigen::Vector3d>& cells, const HeightGrid& gr
   const Eigen::Vector2d shift(p.dx, p.dy);
   std::vector<Eigen::Vector4d> pairs;  // x, y about the centre, 1, difference
   pairs.reserve(cells.size());
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  // The normal equations of the plane (x, y, 1): its six distinct sums.
+  double sxx = 0, sxy = 0, sx = 0, syy = 0, sy = 0, n = 0;
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (const auto& c : cells) {
     const Eigen::Vector2d xy = turn * (c.head<2>() - centre) + shift;
     const float zt = grid.at(xy + centre);
     if (std::isnan(zt)) continue;
-    const Eigen::Vector3d v(xy.x(), xy.y(), 1.0);
-    const double r = double(zt) - c.z();
-    a += v * v.transpose(), b += v * r;
-    pairs.emplace_back(xy.x(), xy.y(), 1.0, r);
+    const double x = xy.x(), y = xy.y(), r = double(zt) - c.z();
+    sxx += x * x, sxy += x * y, sx += x, syy += y * y, sy += y, n += 1;
+    b += Eigen::Vector3d(x, y, 1.0) * r;
+    pairs.emplace_back(x, y, 1.0, r);
   }
   if (pairs.size() < 50 || pairs.size() * 4 < cells.size()) return p;
+  Eigen::Matrix3d a;
+  a << sxx, sxy, sx, sxy, syy, sy, sx, sy, n;
   p.tilt = a.ldlt().solve(b);
   double sum = 0;
   for (const auto& q : pairs)
