@@ -585,15 +585,12 @@ void pronounce(RegistrationQuality& q, const Fit& fit, const RegistrationOptions
     q.reason = formatted("only %.0f %% of the source's points have a partner", 100 * q.overlap);
   } else if (q.rms_m > o.max_rms_m) {
     q.verdict = Verdict::kDoubtful;
-    // Said beside the source's residual on its own surface: at about that
-    // level the residual is the scan's range noise, not a misfit.
-    q.reason = q.self_rms_m > 0
-                   ? formatted(
-                         "residual %.1f mm over the partners, above %.0f mm (the source "
-                         "on its own surface: %.1f mm)",
-                         1000 * q.rms_m, 1000 * o.max_rms_m, 1000 * q.self_rms_m)
-                   : formatted("residual %.1f mm over the partners, above %.0f mm", 1000 * q.rms_m,
-                               1000 * o.max_rms_m);
+    q.reason = formatted("residual %.1f mm over the partners, above %.0f mm", 1000 * q.rms_m,
+                         1000 * o.max_rms_m);
+    // Beside the source's residual on its own surface: at about that level
+    // the residual is the scan's range noise, not a misfit.
+    if (q.self_rms_m > 0)
+      q.reason += formatted(" (the source on its own surface: %.1f mm)", 1000 * q.self_rms_m);
   } else if (q.weakest_sigma_m > o.doubtful_sigma_m) {
     q.verdict = Verdict::kDoubtful;
     q.reason = formatted("loosely held along %s (+-%.1f mm)", q.weakest_axis.c_str(),
