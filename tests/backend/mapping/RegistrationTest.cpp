@@ -20,6 +20,14 @@ Eigen::Isometry3d perturbed(const Eigen::Isometry3d& t, double metres, double de
          Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d(0.2, 0.1, 1).normalized());
 }
 
+// sim-pairs' pair of this family and seed, at range noise k.
+sim::ScanPair noisyPair(sim::TerrainFamily family, std::uint64_t seed, double k) {
+  sim::ScanPairOptions options;
+  options.noise_k = {k};
+  return sim::makeScanPair(family, seed, sim::readScannerModel(findResource("config/scanner.json")),
+                           options);
+}
+
 // Two views 2.5 m apart with a 6 degree turn, dead reckoning off by 0.3 m
 // and 3 degrees: ICP lands within 1 % of the distance travelled.
 TEST(Registration, IcpAlignsScansFromTwoViewpoints) {
@@ -60,10 +68,7 @@ TEST(Registration, TheResultDoesNotDependOnTheFrameTheCloudsComeIn) {
 // each point along its ray onto its neighbours' surface and lands within 1 % of the distance; with
 // the points as scanned it ends more than twice as far.
 TEST(Registration, KnownScannersTakeRangeNoiseOutAlongTheRays) {
-  auto scanner = sim::readScannerModel(findResource("config/scanner.json"));
-  sim::ScanPairOptions options;
-  options.noise_k = {5e-4};
-  const auto pair = sim::makeScanPair(sim::TerrainFamily::kCourse, 7, scanner, options);
+  const auto pair = noisyPair(sim::TerrainFamily::kCourse, 7, 5e-4);
   const Eigen::Isometry3d truth = pair.levelledTruth();
   const double distance = pair.distance_m;
   auto error = [&](const Registration& r) {
@@ -87,10 +92,7 @@ TEST(Registration, KnownScannersTakeRangeNoiseOutAlongTheRays) {
 // within 1 %: doubtful, and the reason sets the residual beside the
 // source's on its own surface, where it is the same noise.
 TEST(Registration, ANoisyResidualIsDoubtfulBesideTheSourcesOwn) {
-  auto scanner = sim::readScannerModel(findResource("config/scanner.json"));
-  sim::ScanPairOptions options;
-  options.noise_k = {2.5e-4};
-  const auto pair = sim::makeScanPair(sim::TerrainFamily::kRockField, 14, scanner, options);
+  const auto pair = noisyPair(sim::TerrainFamily::kRockField, 14, 2.5e-4);
   const auto r = registerClouds(pair.source, pair.target, pair.levelledGuess(), {},
                                 {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
   const Eigen::Isometry3d truth = pair.levelledTruth();
