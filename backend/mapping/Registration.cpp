@@ -9,11 +9,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "mapping/HeightSearch.h"
 #include "mapping/PointIndex.h"
@@ -99,8 +102,10 @@ Eigen::Isometry3d principalFrame(const Cloud& cloud) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
   Eigen::Vector3d e1 = es.eigenvectors().col(2), e2 = es.eigenvectors().col(1);
   double m1 = 0, m2 = 0;
-  for (const auto& p : cloud)
-    m1 += std::pow((p - c).dot(e1), 3), m2 += std::pow((p - c).dot(e2), 3);
+  for (const auto& p : cloud) {
+    const double u = (p - c).dot(e1), v = (p - c).dot(e2);
+    m1 += u * u * u, m2 += v * v * v;  // std::pow(u, 3) is a library call, for only a sign
+  }
   if (m1 < 0) e1 = -e1;
   if (m2 < 0) e2 = -e2;
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
@@ -142,15 +147,23 @@ std::vector<Eigen::Vector3d> voxelMeans(const Cloud& cloud, const Eigen::Isometr
   CellMap<std::size_t> slot;
   std::vector<Eigen::Vector3d> sum;
   std::vector<int> count;
+  // A scan's points come row by row, often several to a voxel: the last
+  // voxel is looked at before the map, whose lookups miss the cache.
+  std::uint64_t last_key = 0;
+  std::size_t last = std::size_t(-1);
   for (const auto& raw : cloud) {
     const Eigen::Vector3d p = to_frame * raw;
     if (((p / voxel).array().abs() >= double(kVoxelSpan - 1)).any())
       throw std::invalid_argument("registration: a point lies over " +
                                   std::to_string(int(kVoxelSpan * voxel / 1000)) +
                                   " km from the target's centre");
-    const auto [it, fresh] = slot.try_emplace(voxelKey(p, voxel), sum.size());
-    if (fresh) sum.emplace_back(Eigen::Vector3d::Zero()), count.push_back(0);
-    sum[it->second] += p, ++count[it->second];
+    const std::uint64_t key = voxelKey(p, voxel);
+    if (last == std::size_t(-1) || key != last_key) {
+      const auto [it, fresh] = slot.try_emplace(key, sum.size());
+      if (fresh) sum.emplace_back(Eigen::Vector3d::Zero()), count.push_back(0);
+      last_key = key, last = it->second;
+    }
+    sum[last] += p, ++count[last];
   }
   for (std::size_t i = 0; i < sum.size(); ++i) sum[i] /= count[i];
   return sum;
@@ -657,6 +670,83 @@ std::vector<Eigen::Vector3d> positions(const std::vector<Surfel>& surfels,
   return out;
 }
 
+// The target thinned, its k-d tree and its surfels.
+struct PreparedTarget {
+  std::vector<Eigen::Vector3d> points;
+  std::unique_ptr<PointIndex> index;
+  std::vector<Surfel> surfels;
+};
+
+PreparedTarget prepareTarget(const Cloud& target, const Eigen::Isometry3d& to_frame,
+                             const std::optional<Eigen::Vector3d>& scanner,
+                             const RegistrationOptions& o, int threads) {
+  PreparedTarget t;
+  t.points = thinned(target, to_frame, scanner, o, threads, "target");
+  t.index = std::make_unique<PointIndex>(asFloat(t.points));
+  t.surfels = surfels(t.points, o, threads);
+  return t;
+}
+
+// The source thinned and its surfels, placed by the guess; and what the
+// verdict weighs: its points where the scan put them (moved onto their
+// neighbours' planes they share their errors, and their residual would
+// understate the noise), one per sparse voxel, and their residual against
+// the source's own surface.
+struct PreparedSource {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Surfel> placed;
+  std::vector<Eigen::Vector3d> probe;
+  double self_rms = 0.0;
+};
+
+PreparedSource prepareSource(const Cloud& source, const Eigen::Isometry3d& to_frame,
+                             const std::optional<Eigen::Vector3d>& scanner,
+                             const RegistrationOptions& o, int threads) {
+  PreparedSource s;
+  s.points = thinned(source, to_frame, scanner, o, threads, "source");
+  s.placed = surfels(s.points, o, threads);
+  const auto as_scanned =
+      scanner && o.ray_neighbours > 0 ? voxelMeans(source, to_frame, o.voxel_m) : s.points;
+  s.probe = sparser(as_scanned, o.source_voxel_m);
+  if (o.max_residual_ratio > 0) {
+    const PointIndex own(asFloat(s.points));  // the surfels' centres
+    s.self_rms =
+        rms(planeResiduals(s.probe, Eigen::Isometry3d::Identity(), s.placed, own, o, threads));
+  }
+  return s;
+}
+
+// Both clouds made ready, side by side when there are cores for it (their
+// thinning is mostly hashing, one core's work); the target's error first
+// when both are refused, as when made one after the other.
+std::pair<PreparedTarget, PreparedSource> prepare(const Cloud& source, const Cloud& target,
+                                                  const Eigen::Isometry3d& frame,
+                                                  const Eigen::Isometry3d& initial,
+                                                  const ScannerOrigins& scanners,
+                                                  const RegistrationOptions& o, int threads) {
+  auto target_side = [&](int cores) {
+    return prepareTarget(target, frame.inverse(), scanners.target, o, cores);
+  };
+  auto source_side = [&](int cores) {
+    return prepareSource(source, frame.inverse() * initial, scanners.source, o, cores);
+  };
+  if (threads < 2) {
+    auto t = target_side(threads);
+    return {std::move(t), source_side(threads)};
+  }
+  auto source_future = std::async(std::launch::async, source_side, threads / 2);
+  std::exception_ptr target_error;
+  std::optional<PreparedTarget> t;
+  try {
+    t = target_side(threads - threads / 2);
+  } catch (...) {
+    target_error = std::current_exception();
+  }
+  source_future.wait();
+  if (target_error) std::rethrow_exception(target_error);
+  return {std::move(*t), source_future.get()};
+}
+
 }  // namespace
 
 Registration registerClouds(const Cloud& source, const Cloud& target,
@@ -677,13 +767,13 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   if ((scanners.source && !scanners.source->allFinite()) ||
       (scanners.target && !scanners.target->allFinite()))
     throw std::invalid_argument("registration: a scanner's origin is not finite");
-  const auto target_points =
-      thinned(target, frame.inverse(), scanners.target, o, threads, "target");
-  const PointIndex index(asFloat(target_points));
-  const auto fixed = surfels(target_points, o, threads);
-  const auto source_points =
-      thinned(source, frame.inverse() * initial, scanners.source, o, threads, "source");
-  const auto placed = surfels(source_points, o, threads);
+  const auto [prepared_target, prepared_source] =
+      prepare(source, target, frame, initial, scanners, o, threads);
+  const auto& target_points = prepared_target.points;
+  const auto& index = *prepared_target.index;
+  const auto& fixed = prepared_target.surfels;
+  const auto& source_points = prepared_source.points;
+  const auto& placed = prepared_source.placed;
   const auto moving = sparser(placed, o.source_voxel_m);
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
   if (o.search_heights) start = searchHeights(source_points, target_points, o.search);
@@ -718,19 +808,8 @@ Registration registerClouds(const Cloud& source, const Cloud& target,
   r.converged = fit.converged;
   r.iterations = fit.iterations;
   r.pairs = fit.pairs;
-  // The verdict weighs the source's points where the scan put them: moved
-  // onto their neighbours' planes they share their errors, and their
-  // residual would understate the noise.
-  const auto as_scanned = scanners.source && o.ray_neighbours > 0
-                              ? voxelMeans(source, frame.inverse() * initial, o.voxel_m)
-                              : source_points;
-  const auto probe = sparser(as_scanned, o.source_voxel_m);
-  double self_rms = 0.0;
-  if (o.max_residual_ratio > 0) {
-    const PointIndex own(asFloat(source_points));  // the surfels' centres
-    self_rms = rms(planeResiduals(probe, Eigen::Isometry3d::Identity(), placed, own, o, threads));
-  }
-  r.quality = judge(probe, fixed, index, fit, frame, agreement, self_rms, o, threads);
+  r.quality = judge(prepared_source.probe, fixed, index, fit, frame, agreement,
+                    prepared_source.self_rms, o, threads);
   r.rms_m = r.quality.rms_m;
   return r;
 }

@@ -206,5 +206,55 @@ TEST(Registration, BadInputIsRefusedWithTheProblemNamed) {
                std::invalid_argument);
 }
 
+// The two clouds are thinned side by side when there are two cores or more,
+// and the normal equations summed in fixed chunks: one core, two or three
+// give the same answer to the last bit.
+TEST(Registration, TheAnswerIsTheSameOnAnyNumberOfCores) {
+  const auto pair = noisyPair(sim::TerrainFamily::kCourse, 7, 5e-4);
+  auto on = [&](int cores) {
+    RegistrationOptions options;
+    options.threads = cores;
+    return registerClouds(pair.source, pair.target, pair.levelledGuess(), options,
+                          {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  };
+  const auto one = on(1);
+  for (int cores : {2, 3}) {
+    const auto r = on(cores);
+    EXPECT_TRUE(r.transform.matrix() == one.transform.matrix()) << cores << " cores";
+    EXPECT_EQ(r.iterations, one.iterations);
+    EXPECT_EQ(r.quality.partners, one.quality.partners);
+    EXPECT_EQ(r.quality.rms_m, one.quality.rms_m);
+    EXPECT_EQ(r.quality.self_rms_m, one.quality.self_rms_m);
+    EXPECT_EQ(r.quality.reason, one.quality.reason);
+  }
+}
+
+// A cloud that thins to fewer than 10 points is named, the target first
+// when both are, on one core as on two.
+TEST(Registration, ACloudTooSmallAfterThinningIsNamed) {
+  const View a = viewFrom(2, {0, 0}, 0);
+  Cloud clump;
+  for (int i = 0; i < 20; ++i) clump.emplace_back(0.001 * i, 0.0, 0.0);
+  auto refusal = [](const Cloud& source, const Cloud& target, int cores) {
+    RegistrationOptions options;
+    options.threads = cores;
+    try {
+      (void)registerClouds(source, target, Eigen::Isometry3d::Identity(), options);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no refusal");
+  };
+  auto names = [](const std::string& refusal, const std::string& which) {
+    return refusal.find("the " + which + " has ") != std::string::npos &&
+           refusal.find(" points after thinning; at least 10 needed") != std::string::npos;
+  };
+  for (int cores : {1, 2}) {
+    EXPECT_PRED2(names, refusal(clump, a.points, cores), "source");
+    EXPECT_PRED2(names, refusal(a.points, clump, cores), "target");
+    EXPECT_PRED2(names, refusal(clump, clump, cores), "target");
+  }
+}
+
 }  // namespace
 }  // namespace ambler::mapping
