@@ -6,9 +6,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
+#include <utility>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
@@ -288,11 +292,29 @@ nlohmann::json qualityJson(const mapping::RegistrationQuality& q) {
             finite(q.sigma[5] * 180 / M_PI)}}};
 }
 
+// Both files read side by side; the source's error first when both fail,
+// as when read one after the other.
+std::pair<mapping::ScanFile, mapping::ScanFile> readBoth(const std::string& source,
+                                                         const std::string& target) {
+  auto source_file = std::async(std::launch::async, [&] { return mapping::readScan(source); });
+  std::exception_ptr target_error;
+  std::optional<mapping::ScanFile> target_file;
+  try {
+    target_file = mapping::readScan(target);
+  } catch (...) {
+    target_error = std::current_exception();
+  }
+  auto source_scan = source_file.get();
+  if (target_error) std::rethrow_exception(target_error);
+  return {std::move(source_scan), std::move(*target_file)};
+}
+
 void runRegister(const RegisterArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const auto guess = guessFrom(args.initial, args.about);
-  auto [source, source_scanner] = mapping::readScan(args.source);
-  auto [target, target_scanner] = mapping::readScan(args.target);
+  auto [source_file, target_file] = readBoth(args.source, args.target);
+  auto& [source, source_scanner] = source_file;
+  auto& [target, target_scanner] = target_file;
   const double read_ms = millisecondsSince(start);
   mapping::Registration r;
   if (args.global) {

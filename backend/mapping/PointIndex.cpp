@@ -1,7 +1,7 @@
 #include "mapping/PointIndex.h"
 
-#include <algorithm>
-#include <limits>
+#include <array>
+#include <cmath>
 #include <nanoflann.hpp>
 
 namespace ambler::mapping {
@@ -35,24 +35,33 @@ PointIndex::PointIndex(std::vector<Eigen::Vector3f> points)
 
 PointIndex::~PointIndex() = default;
 
-PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2,
-                                    int hint) const {
+PointIndex::Hit PointIndex::nearest(const Eigen::Vector3f& query, float max_distance2) const {
   if (points_.empty()) return {};
   // The result set starts with the limit as its worst distance, so that the
-  // tree prunes everything farther at once. The hint's bound is widened a
-  // little so that rounding cannot drop the hint itself.
-  float bound = max_distance2;
-  if (hint >= 0 && std::size_t(hint) < points_.size())
-    bound = std::min(bound, (points_[std::size_t(hint)] - query).squaredNorm() * (1 + 1e-5f) +
-                                std::numeric_limits<float>::min());
+  // tree prunes everything farther at once.
   unsigned index = 0;
   float d2 = 0;
   nanoflann::KNNResultSet<float, unsigned> result(1);
   result.init(&index, &d2);
-  d2 = bound;
+  d2 = max_distance2;
   tree_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
   if (result.size() != 1 || d2 > max_distance2) return {};
   return {int(index), d2};
+}
+
+PointIndex::Hit PointIndex::nearestWithLead(const Eigen::Vector3f& query, float max_distance2,
+                                            float& lead) const {
+  lead = 0.0f;
+  if (points_.empty()) return {};
+  std::array<unsigned, 2> index{};
+  std::array<float, 2> d2{};
+  nanoflann::KNNResultSet<float, unsigned> result(2);
+  result.init(index.data(), d2.data());
+  d2[1] = max_distance2;  // the bound, as in nearest()
+  tree_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  if (result.size() == 0 || d2[0] > max_distance2) return {};
+  lead = std::sqrt(d2[1]) - std::sqrt(d2[0]);  // d2[1] stays the bound when one point is found
+  return {int(index[0]), d2[0]};
 }
 
 int PointIndex::nearest(const Eigen::Vector3f& query, int k, unsigned* indices,

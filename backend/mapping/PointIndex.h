@@ -23,10 +23,12 @@ class PointIndex {
     float distance2 = 0.0f;  // squared [m^2]
   };
   // The nearest point, or index -1 when none lies within sqrt(max_distance2).
-  // `hint`, when not -1, is a point likely near the query (its nearest for a
-  // query close by): its distance bounds the search from the start, which
-  // then visits fewer branches; the answer is the same.
-  Hit nearest(const Eigen::Vector3f& query, float max_distance2, int hint = -1) const;
+  Hit nearest(const Eigen::Vector3f& query, float max_distance2) const;
+  // The nearest point, and its lead [m]: how much farther the next point
+  // within sqrt(max_distance2) lies, or that distance itself when none
+  // does. A query moved by less than half the lead has the same nearest
+  // point.
+  Hit nearestWithLead(const Eigen::Vector3f& query, float max_distance2, float& lead) const;
   // Up to k nearest points, nearest first; returns how many were written.
   int nearest(const Eigen::Vector3f& query, int k, unsigned* indices, float* distance2) const;
 

@@ -415,6 +415,36 @@ struct Fit {
   double cost = INFINITY;  // mean kernel cost per source point, unpaired ones saturated
 };
 
+// Each source point's nearest target point, kept from one iteration to the
+// next while the point has moved less than half its lead over the next
+// nearest (no other target point can have come nearer): once the steps are
+// small most points skip the k-d tree, and their partners are those a
+// search would give.
+class Partners {
+ public:
+  Partners(const PointIndex& index, std::size_t n) : index_(index), found_(n) {}
+  int of(std::size_t i, const Eigen::Vector3f& at, float limit2) {
+    Found& f = found_[i];
+    if (f.index >= 0 && 2 * (at - f.at).norm() + kMargin < f.lead &&
+        (index_.points()[std::size_t(f.index)] - at).squaredNorm() < limit2 * (1 - 1e-5f))
+      return f.index;
+    f.index = index_.nearestWithLead(at, limit2, f.lead).index;
+    f.at = at;
+    return f.index;
+  }
+
+ private:
+  // Well above the rounding of single-precision distances over a scan.
+  static constexpr float kMargin = 1e-4f;  // [m]
+  struct Found {
+    int index = -1;
+    Eigen::Vector3f at = Eigen::Vector3f::Zero();
+    float lead = 0.0f;
+  };
+  const PointIndex& index_;
+  std::vector<Found> found_;
+};
+
 Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
          const PointIndex& index, const Eigen::Isometry3d& start, const RegistrationOptions& o,
          int threads) {
@@ -423,22 +453,19 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
   double distance = o.max_distance_m;
   int in_stage = 0;
   const double c2 = o.kernel_sigmas * o.kernel_sigmas;
-  // Each source point's partner of the last iteration: the steps are small,
-  // so it bounds the next search closely.
-  std::vector<int> partner(source.size(), -1);
+  Partners partners(index, source.size());
   while (fit.iterations < o.max_iterations) {
     ++fit.iterations;
     const Eigen::Matrix3d r = fit.transform.linear();
     const float limit2 = float(distance * distance);
     const auto eq = accumulate(source.size(), threads, [&](std::size_t i, NormalEquations& sum) {
       const Eigen::Vector3d q = fit.transform * source[i].p;
-      const auto hit = index.nearest(q.cast<float>(), limit2, partner[i]);
-      partner[i] = hit.index;
-      if (hit.index < 0) {
+      const int partner = partners.of(i, q.cast<float>(), limit2);
+      if (partner < 0) {
         sum.cost += c2;
         return;
       }
-      const Surfel& t = target[std::size_t(hit.index)];
+      const Surfel& t = target[std::size_t(partner)];
       const Eigen::Vector3d e = t.p - q;
       const Eigen::Matrix3d info = (t.cov + r * source[i].cov * r.transpose()).inverse();
       const double m2 = e.dot(info * e);

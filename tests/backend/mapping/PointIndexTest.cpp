@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace ambler::mapping {
@@ -25,32 +27,58 @@ PointIndex::Hit bruteForce(const std::vector<Eigen::Vector3f>& points, const Eig
   return best;
 }
 
-// Whatever the hint (none, the answer itself, a near point, a point
-// beyond the limit, an index out of range), the answer is the nearest
-// point within the limit, or none.
-TEST(PointIndex, AHintNeverChangesTheNearestPoint) {
+// The answer is the nearest point within the limit, or none; with its lead,
+// the distance from the query to the next point within the limit (or the
+// limit) less the nearest's.
+TEST(PointIndex, TheNearestPointAndItsLeadAreThoseOfBruteForce) {
   std::mt19937 rng(7);
   const auto points = randomPoints(5000, rng);
   const PointIndex index(points);
   std::uniform_real_distribution<float> u(-6.0f, 6.0f);
-  std::uniform_int_distribution<int> any(0, int(points.size()) - 1);
-  int found = 0, none = 0;
+  int found = 0, none = 0, alone = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const Eigen::Vector3f q(u(rng), u(rng), 0.2f * u(rng));
     const float limit2 = trial % 2 ? 0.01f : 0.04f;
     const auto truth = bruteForce(points, q, limit2);
     truth.index < 0 ? ++none : ++found;
-    for (const int hint : {-1, truth.index, any(rng), int(points.size()), 1 << 30}) {
-      const auto hit = index.nearest(q, limit2, hint);
-      ASSERT_EQ(hit.index, truth.index) << "trial " << trial << " hint " << hint;
-      if (hit.index >= 0) {
-        EXPECT_FLOAT_EQ(hit.distance2, truth.distance2);
-      }
-    }
+    const auto hit = index.nearest(q, limit2);
+    ASSERT_EQ(hit.index, truth.index) << "trial " << trial;
+    float lead = -1.0f;
+    ASSERT_EQ(index.nearestWithLead(q, limit2, lead).index, truth.index) << "trial " << trial;
+    if (truth.index < 0) continue;
+    EXPECT_FLOAT_EQ(hit.distance2, truth.distance2);
+    float next2 = limit2;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (int(i) != truth.index) next2 = std::min(next2, (points[i] - q).squaredNorm());
+    alone += next2 == limit2;
+    EXPECT_NEAR(lead, std::sqrt(next2) - std::sqrt(truth.distance2), 1e-6f) << "trial " << trial;
   }
-  // Both outcomes were exercised.
+  // Every outcome was exercised.
   EXPECT_GT(found, 200);
   EXPECT_GT(none, 200);
+  EXPECT_GT(alone, 20);
+}
+
+// A query moved in any direction by up to half its lead keeps its nearest
+// point: what lets GICP skip the search between small steps.
+TEST(PointIndex, AQueryMovedByUnderHalfItsLeadKeepsItsNearestPoint) {
+  std::mt19937 rng(11);
+  const auto points = randomPoints(5000, rng);
+  const PointIndex index(points);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  int moved = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Eigen::Vector3f q(u(rng), u(rng), 0.1f * u(rng));
+    float lead = 0.0f;
+    const auto hit = index.nearestWithLead(q, 0.04f, lead);
+    if (hit.index < 0 || lead < 1e-3f) continue;
+    const Eigen::Vector3f away =
+        q + Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized() * (0.499f * lead);
+    ASSERT_EQ(bruteForce(points, away, 1.0f).index, hit.index) << "trial " << trial;
+    ++moved;
+  }
+  EXPECT_GT(moved, 500);
 }
 
 }  // namespace
