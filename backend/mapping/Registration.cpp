@@ -153,11 +153,12 @@ std::vector<Eigen::Vector3d> voxelMeans(const Cloud& cloud, const Eigen::Isometr
   std::size_t last = std::size_t(-1);
   for (const auto& raw : cloud) {
     const Eigen::Vector3d p = to_frame * raw;
-    if (((p / voxel).array().abs() >= double(kVoxelSpan - 1)).any())
+    const Eigen::Vector3d in_voxels = p / voxel;
+    if ((in_voxels.array().abs() >= double(kVoxelSpan - 1)).any())
       throw std::invalid_argument("registration: a point lies over " +
                                   std::to_string(int(kVoxelSpan * voxel / 1000)) +
                                   " km from the target's centre");
-    const std::uint64_t key = voxelKey(p, voxel);
+    const std::uint64_t key = cellKey(in_voxels.array().floor().cast<int>());
     if (last == std::size_t(-1) || key != last_key) {
       const auto [it, fresh] = slot.try_emplace(key, sum.size());
       if (fresh) sum.emplace_back(Eigen::Vector3d::Zero()), count.push_back(0);
@@ -191,7 +192,11 @@ class CellBlocks {
  public:
   CellBlocks(const std::vector<Eigen::Vector3d>& points, double cell, int threads) : cell_(cell) {
     index_.reserve(points.size());
-    for (const auto& p : points) cellOf(cellOfPoint(p, cell_)).add(p);
+    holding_.reserve(points.size());
+    for (const auto& p : points) {
+      cellOf(cellOfPoint(p, cell_)).add(p);
+      holding_.push_back(last_);
+    }
     sumBlocks(threads);
   }
   // Cells twice the size of `finer`'s, from its cells.
@@ -203,17 +208,23 @@ class CellBlocks {
   }
   std::size_t size() const { return cells_.size(); }
   const Eigen::Vector3i& cell(std::size_t c) const { return coords_[c]; }
-  // The cell holding `p`, one of the points given.
-  std::size_t holding(const Eigen::Vector3d& p) const { return index_.at(voxelKey(p, cell_)); }
+  // The cell holding point `i` of those given.
+  std::size_t holding(std::size_t i) const { return holding_[i]; }
   // The block around cell `c`, one of the occupied ones.
   const Moments& around(const Eigen::Vector3i& c) const { return blocks_[index_.at(cellKey(c))]; }
   const Moments& around(std::size_t c) const { return blocks_[c]; }
 
  private:
+  // Points and finer cells come in scan order, often several to a cell:
+  // the last cell is looked at before the map (as in voxelMeans).
   Moments& cellOf(const Eigen::Vector3i& c) {
-    const auto [it, fresh] = index_.try_emplace(cellKey(c), cells_.size());
-    if (fresh) cells_.emplace_back(), coords_.push_back(c);
-    return cells_[it->second];
+    const std::uint64_t key = cellKey(c);
+    if (cells_.empty() || key != last_key_) {
+      const auto [it, fresh] = index_.try_emplace(key, cells_.size());
+      if (fresh) cells_.emplace_back(), coords_.push_back(c);
+      last_key_ = key, last_ = it->second;
+    }
+    return cells_[last_];
   }
   void sumBlocks(int threads) {
     blocks_.resize(cells_.size());
@@ -227,9 +238,12 @@ class CellBlocks {
           }
   }
   double cell_;
+  std::uint64_t last_key_ = 0;
+  std::size_t last_ = 0;  // the cell of last_key_
   CellMap<std::size_t> index_;
   std::vector<Eigen::Vector3i> coords_;
   std::vector<Moments> cells_, blocks_;
+  std::vector<std::size_t> holding_;  // of each point given, its cell
 };
 
 // The mean and principal axes of some points (eigenvalues ascending: the
@@ -306,7 +320,7 @@ std::vector<Eigen::Vector3d> ontoNeighbourPlanes(const std::vector<Eigen::Vector
   std::vector<Eigen::Vector3d> out(points);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto& plane = planes[scales.front().holding(points[i])];
+    const auto& plane = planes[scales.front().holding(i)];
     if (!plane) continue;
     const Eigen::Vector3d normal = plane->shape.eigenvectors().col(0);
     const Eigen::Vector3d ray = (points[i] - scanner).normalized();
@@ -338,7 +352,7 @@ std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
   std::vector<Surfel> out(points.size());
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto& block = planes[scales.front().holding(points[i])];
+    const auto& block = planes[scales.front().holding(i)];
     const auto& es = block ? block->shape : nearestPlane(points, *index, points[i], k).shape;
     const Eigen::Vector3d normal = es.eigenvectors().col(0);
     const Eigen::Matrix3d across = normal * normal.transpose();
