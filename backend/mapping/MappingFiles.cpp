@@ -25,8 +25,10 @@ ScanFile readScan(const std::filesystem::path& pcd) {
             z = cloud.header.column("z");
   Cloud out;
   out.reserve(cloud.header.points);
+  const std::size_t per_point = cloud.header.elementsPerPoint();
   for (std::uint64_t i = 0; i < cloud.header.points; ++i) {
-    const Eigen::Vector3d p(cloud.at(i, x), cloud.at(i, y), cloud.at(i, z));
+    const double* values = &cloud.values[i * per_point];
+    const Eigen::Vector3d p(values[x], values[y], values[z]);
     if (p.allFinite()) out.push_back(p);
   }
   ScanFile scan{std::move(out), std::nullopt};
