@@ -104,7 +104,7 @@ Eigen::Isometry3d principalFrame(const Cloud& cloud) {
   double m1 = 0, m2 = 0;
   for (const auto& p : cloud) {
     const double u = (p - c).dot(e1), v = (p - c).dot(e2);
-    m1 += u * u * u, m2 += v * v * v;  // std::pow(u, 3) is a library call, for only a sign
+    m1 += u * u * u, m2 += v * v * v;  // only the signs count: no std::pow library call
   }
   if (m1 < 0) e1 = -e1;
   if (m2 < 0) e2 = -e2;
@@ -208,7 +208,7 @@ class CellBlocks {
   }
   std::size_t size() const { return cells_.size(); }
   const Eigen::Vector3i& cell(std::size_t c) const { return coords_[c]; }
-  // The cell holding point `i` of those given.
+  // The cell holding point `i` of those given (built from points, not cells).
   std::size_t holding(std::size_t i) const { return holding_[i]; }
   // The block around cell `c`, one of the occupied ones.
   const Moments& around(const Eigen::Vector3i& c) const { return blocks_[index_.at(cellKey(c))]; }
