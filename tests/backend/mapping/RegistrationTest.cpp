@@ -256,5 +256,29 @@ TEST(Registration, ACloudTooSmallAfterThinningIsNamed) {
   }
 }
 
+// A point hundreds of kilometres out (a corrupt file) is refused with the
+// distance the hashing allows, in either cloud, on one core as on two:
+// the source's refusal comes from its own thread.
+TEST(Registration, APointBeyondTheHashedRangeIsRefused) {
+  const View a = viewFrom(2, {0, 0}, 0);
+  Cloud far = a.points;
+  far[100] = Eigen::Vector3d(3e5, 0, 0);
+  auto refusal = [](const Cloud& source, const Cloud& target, int cores) {
+    RegistrationOptions options;
+    options.threads = cores;
+    try {
+      (void)registerClouds(source, target, Eigen::Isometry3d::Identity(), options,
+                           {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no refusal");
+  };
+  for (int cores : {1, 2})
+    for (const auto& message : {refusal(far, a.points, cores), refusal(a.points, far, cores)})
+      EXPECT_NE(message.find("a point lies over 52 km from the target's centre"), std::string::npos)
+          << message;
+}
+
 }  // namespace
 }  // namespace ambler::mapping
