@@ -89,6 +89,7 @@ struct Surfel {
   Eigen::Vector3d p;
   Eigen::Matrix3d cov;
   Eigen::Vector3d normal;
+  double along = 0;  // cov's variance along the surface (across: min_thickness_m squared)
 };
 
 // The cloud's centroid and principal axes, signed by the third moment
@@ -360,7 +361,7 @@ std::vector<Surfel> surfels(const std::vector<Eigen::Vector3d>& points,
     out[i] = {points[i],
               o.min_thickness_m * o.min_thickness_m * across +
                   along * (Eigen::Matrix3d::Identity() - across),
-              normal};
+              normal, along};
   }
   return out;
 }
@@ -459,6 +460,34 @@ class Partners {
   std::vector<Found> found_;
 };
 
+// The source surfel's covariance turned by r, plus the target's. The
+// source's is along * I + (across2 - along) n n^T: only its normal turns.
+Eigen::Matrix3d pairCovariance(const Surfel& source, const Surfel& target, const Eigen::Matrix3d& r,
+                               double across2) {
+  const Eigen::Vector3d n = r * source.normal;
+  Eigen::Matrix3d sum = target.cov;
+  sum.noalias() += (across2 - source.along) * n * n.transpose();
+  sum.diagonal().array() += source.along;
+  return sum;
+}
+
+// A pair's share of the normal equations of the step (turn, shift), with
+// weight matrix m and residual e at the moved source point q. The
+// Jacobian is J = [skew(q), -I], so J^T m J and J^T m e go by blocks
+// (skew(q)^T = -skew(q)).
+void addPair(NormalEquations& sum, const Eigen::Vector3d& q, const Eigen::Vector3d& e,
+             const Eigen::Matrix3d& m) {
+  const Eigen::Matrix3d a = skew(q), ma = m * a;
+  const Eigen::Vector3d me = m * e;
+  sum.h.topLeftCorner<3, 3>().noalias() -= a * ma;
+  sum.h.topRightCorner<3, 3>() -= ma.transpose();
+  sum.h.bottomLeftCorner<3, 3>() -= ma;
+  sum.h.bottomRightCorner<3, 3>() += m;
+  sum.g.head<3>().noalias() -= a * me;
+  sum.g.tail<3>() -= me;
+  ++sum.pairs;
+}
+
 Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
          const PointIndex& index, const Eigen::Isometry3d& start, const RegistrationOptions& o,
          int threads) {
@@ -467,6 +496,7 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
   double distance = o.max_distance_m;
   int in_stage = 0;
   const double c2 = o.kernel_sigmas * o.kernel_sigmas;
+  const double across2 = o.min_thickness_m * o.min_thickness_m;
   Partners partners(index, source.size());
   while (fit.iterations < o.max_iterations) {
     ++fit.iterations;
@@ -481,16 +511,11 @@ Fit gicp(const std::vector<Surfel>& source, const std::vector<Surfel>& target,
       }
       const Surfel& t = target[std::size_t(partner)];
       const Eigen::Vector3d e = t.p - q;
-      const Eigen::Matrix3d info = (t.cov + r * source[i].cov * r.transpose()).inverse();
+      const Eigen::Matrix3d info = pairCovariance(source[i], t, r, across2).inverse();
       const double m2 = e.dot(info * e);
       sum.cost += c2 * m2 / (c2 + m2);
       const double w = 1.0 / ((1.0 + m2 / c2) * (1.0 + m2 / c2));
-      Eigen::Matrix<double, 3, 6> j;
-      j << skew(q), -Eigen::Matrix3d::Identity();
-      const Eigen::Matrix<double, 6, 3> jt_info = w * j.transpose() * info;
-      sum.h += jt_info * j;
-      sum.g += jt_info * e;
-      ++sum.pairs;
+      addPair(sum, q, e, w * info);
     });
     fit.pairs = eq.pairs;
     fit.cost = eq.cost / double(std::max<std::size_t>(source.size(), 1));
