@@ -6,17 +6,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <map>
 #include <memory>
-#include <optional>
 #include <random>
 #include <utility>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
+#include "core/SideBySide.h"
 #include "mapping/Localization.h"
 #include "mapping/MappingFiles.h"
 #include "mapping/Registration.h"
@@ -296,17 +294,8 @@ nlohmann::json qualityJson(const mapping::RegistrationQuality& q) {
 // as when read one after the other.
 std::pair<mapping::ScanFile, mapping::ScanFile> readBoth(const std::string& source,
                                                          const std::string& target) {
-  auto source_file = std::async(std::launch::async, [&] { return mapping::readScan(source); });
-  std::exception_ptr target_error;
-  std::optional<mapping::ScanFile> target_file;
-  try {
-    target_file = mapping::readScan(target);
-  } catch (...) {
-    target_error = std::current_exception();
-  }
-  auto source_scan = source_file.get();
-  if (target_error) std::rethrow_exception(target_error);
-  return {std::move(source_scan), std::move(*target_file)};
+  return sideBySide([&] { return mapping::readScan(source); },
+                    [&] { return mapping::readScan(target); });
 }
 
 void runRegister(const RegisterArgs& args) {

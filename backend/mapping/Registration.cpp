@@ -9,8 +9,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <exception>
-#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -18,6 +16,7 @@
 #include <string>
 #include <utility>
 
+#include "core/SideBySide.h"
 #include "mapping/HeightSearch.h"
 #include "mapping/PointIndex.h"
 
@@ -195,8 +194,8 @@ class CellBlocks {
     index_.reserve(points.size());
     holding_.reserve(points.size());
     for (const auto& p : points) {
-      cellOf(cellOfPoint(p, cell_)).add(p);
-      holding_.push_back(last_);
+      holding_.push_back(cellOf(cellOfPoint(p, cell_)));
+      cells_[holding_.back()].add(p);
     }
     sumBlocks(threads);
   }
@@ -204,7 +203,7 @@ class CellBlocks {
   CellBlocks(const CellBlocks& finer, int threads) : cell_(2 * finer.cell_) {
     index_.reserve(finer.size());
     for (std::size_t c = 0; c < finer.cells_.size(); ++c)
-      cellOf(finer.coords_[c].unaryExpr([](int v) { return v >> 1; })).add(finer.cells_[c]);
+      cells_[cellOf(finer.coords_[c].unaryExpr([](int v) { return v >> 1; }))].add(finer.cells_[c]);
     sumBlocks(threads);
   }
   std::size_t size() const { return cells_.size(); }
@@ -216,16 +215,17 @@ class CellBlocks {
   const Moments& around(std::size_t c) const { return blocks_[c]; }
 
  private:
-  // Points and finer cells come in scan order, often several to a cell:
-  // the last cell is looked at before the map (as in voxelMeans).
-  Moments& cellOf(const Eigen::Vector3i& c) {
+  // The index of cell `c`, added if new. Points and finer cells come in
+  // scan order, often several to a cell: the last cell is looked at before
+  // the map (as in voxelMeans).
+  std::size_t cellOf(const Eigen::Vector3i& c) {
     const std::uint64_t key = cellKey(c);
     if (cells_.empty() || key != last_key_) {
       const auto [it, fresh] = index_.try_emplace(key, cells_.size());
       if (fresh) cells_.emplace_back(), coords_.push_back(c);
       last_key_ = key, last_ = it->second;
     }
-    return cells_[last_];
+    return last_;
   }
   void sumBlocks(int threads) {
     blocks_.resize(cells_.size());
@@ -800,17 +800,8 @@ std::pair<PreparedTarget, PreparedSource> prepare(const Cloud& source, const Clo
     auto t = target_side(threads);
     return {std::move(t), source_side(threads)};
   }
-  auto source_future = std::async(std::launch::async, source_side, threads / 2);
-  std::exception_ptr target_error;
-  std::optional<PreparedTarget> t;
-  try {
-    t = target_side(threads - threads / 2);
-  } catch (...) {
-    target_error = std::current_exception();
-  }
-  source_future.wait();
-  if (target_error) std::rethrow_exception(target_error);
-  return {std::move(*t), source_future.get()};
+  return sideBySide([&] { return target_side(threads - threads / 2); },
+                    [&] { return source_side(threads / 2); });
 }
 
 }  // namespace
