@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/Angles.h"
 #include "core/GridSpec.h"
 
 namespace ambler::cli {

@@ -18,8 +18,6 @@ namespace ambler::cli {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 // A scanner placement of the evaluation: height above the ground under the
 // rover and tilt of the boresight.
 struct SensorPose {

@@ -18,7 +18,6 @@ namespace ambler::cli {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 // The course's model from orbital altimetry that sim-scan writes.
 constexpr Box2 kModelRegion{-30.0, -30.0, 30.0, 30.0};
 

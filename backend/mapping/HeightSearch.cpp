@@ -9,11 +9,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/Angles.h"
+
 namespace ambler::mapping {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // Mean height per cell over the points' extent; NaN where no point fell.
 struct HeightGrid {

@@ -1,5 +1,6 @@
 #include "sensor/RangeImageFile.h"
 
+#include "core/Angles.h"
 #include "core/Pose.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
@@ -8,7 +9,6 @@ namespace ambler::sensor {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr const char* kModel = "spherical_polar";
 
 RangeImage parseSidecar(const io::JsonFields& f) {

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
+#include "core/Angles.h"
+
 namespace ambler::sim {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // The surface normal from central differences of the height.
 Eigen::Vector3d normalAt(const Terrain& t, double x, double y) {

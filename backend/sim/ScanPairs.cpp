@@ -2,14 +2,13 @@
 
 #include <cmath>
 
+#include "core/Angles.h"
 #include "sim/CourseScene.h"
 #include "sim/RandomDraw.h"
 
 namespace ambler::sim {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // The scan's points levelled about its sensor, and that frame in the world.
 struct Levelled {

@@ -2,13 +2,10 @@
 
 #include <random>
 
+#include "core/Angles.h"
 #include "io/Json.h"
 
 namespace ambler::sim {
-
-namespace {
-constexpr double kDeg = M_PI / 180.0;
-}
 
 Eigen::Isometry3d ScannerModel::mountPose(const Eigen::Vector3d& ground, double heading) const {
   // The sensor frame's y is the boresight and z is up (eq. 1); tilting the

@@ -5,11 +5,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/Angles.h"
+
 namespace ambler::vision {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // The lower edge of the view from the vertical [rad].
 double lowerEdge(const CameraModel& c) { return (c.alpha_deg - 0.5 * c.beta_deg) * kDeg; }

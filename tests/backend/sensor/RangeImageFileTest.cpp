@@ -6,13 +6,12 @@
 #include <functional>
 
 #include "TempDir.h"
+#include "core/Angles.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
 
 namespace ambler::sensor {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 RangeImage sampleImage() {
   RangeImage image;

@@ -4,12 +4,11 @@
 
 #include <random>
 
+#include "core/Angles.h"
 #include "sensor/RangeImage.h"
 
 namespace ambler::sensor {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 TEST(SphericalPolar, Eq1AxesMatchThePaper) {
   // theta = phi = 0 looks along y; theta = 90 deg along x; phi = 90 deg along z.

@@ -6,15 +6,10 @@
 
 #include <cmath>
 
+#include "backend/sim/FlatGround.h"
+
 namespace ambler::sim {
 namespace {
-
-ProceduralTerrain flatGround(std::vector<Feature> features = {}) {
-  TerrainDescription d;
-  d.extent = {-100, -100, 100, 100};
-  d.features = std::move(features);
-  return ProceduralTerrain(std::move(d));
-}
 
 TEST(CameraRender, FlatSandFollowsLambertAndTheSkyIsBlack) {
   const auto ground = flatGround();

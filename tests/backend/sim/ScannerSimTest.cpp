@@ -2,20 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include "backend/sim/FlatGround.h"
+#include "core/Angles.h"
 #include "core/Resources.h"
 #include "sim/ProceduralTerrain.h"
 
 namespace ambler::sim {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
-
-ProceduralTerrain flatGround(std::vector<Feature> features = {}) {
-  TerrainDescription d;
-  d.extent = {-100, -100, 100, 100};
-  d.features = std::move(features);
-  return ProceduralTerrain(std::move(d));
-}
 
 ScannerModel model(int rows, int cols, double k) {
   ScannerModel m;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/Angles.h"
 #include "sim/ProceduralTerrain.h"
 #include "sim/ScannerSim.h"
 #include "sim/TerrainFamilies.h"
@@ -9,8 +10,6 @@
 
 namespace ambler::terrain {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // z = slope_x x + slope_y y + offset, everywhere.
 class PlaneTerrain : public sim::Terrain {

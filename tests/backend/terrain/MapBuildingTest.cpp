@@ -5,14 +5,13 @@
 #include <cmath>
 #include <random>
 
+#include "core/Angles.h"
 #include "terrain/Binning.h"
 #include "terrain/MapScore.h"
 #include "terrain/OccludingEdges.h"
 
 namespace ambler::terrain {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // A range image looking down from 5 m at flat ground z = 0, exact ranges.
 sensor::RangeImage flatGroundImage(int rows, int cols) {

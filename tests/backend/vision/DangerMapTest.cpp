@@ -9,10 +9,10 @@
 #include <cmath>
 #include <random>
 
+#include "core/Angles.h"
+
 namespace ambler::vision {
 namespace {
-
-constexpr double kDeg = M_PI / 180;
 
 // The row, from the bottom, where a pinhole camera H above flat ground,
 // its axis alpha from the nadir, sees the ground point `x` ahead.
