@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "core/Angles.h"
 #include "core/GridSpec.h"
 
 namespace ambler::cli {

@@ -5,6 +5,7 @@
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
+#include "core/Angles.h"
 #include "core/Resources.h"
 #include "footfall/Criteria.h"
 #include "footfall/FootfallConfig.h"

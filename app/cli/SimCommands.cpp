@@ -3,6 +3,7 @@
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
+#include "core/Angles.h"
 #include "core/Resources.h"
 #include "io/Json.h"
 #include "io/Tiff.h"
