@@ -316,6 +316,7 @@ void MainWindow::setAuthority(bool this_console_holds, const QString& asking) {
 
 void MainWindow::showError(const QString& message) {
   setStatus(tr("Error: %1").arg(message));
+  emit errorShown(message);
   QMessageBox::warning(this, tr("Ambler Ground Station"), message);
 }
 

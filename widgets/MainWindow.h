@@ -96,6 +96,7 @@ class MainWindow : public QMainWindow {
   void authorityRequested();
   void handOverRequested();
   void scanShown();  // showScan() has put a scan in the views
+  void errorShown(const QString& message);  // showError(), before its dialog opens
   void connectRequested();
   void openLogRequested(const QString& path);
 

@@ -7,9 +7,11 @@
 #include <QElapsedTimer>
 #include <QMessageBox>
 #include <QStandardPaths>
+#include <QStringList>
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -31,14 +33,14 @@
 namespace {
 
 // Saves the window 800 ms after the first call (the views have painted),
-// then quits.
-void screenshotOnce(QWidget& window, const QString& path) {
+// then quits with `status` (1 if it could not save).
+void screenshotOnce(QWidget& window, const QString& path, int status = 0) {
   static bool shot = false;
   if (std::exchange(shot, true)) return;
-  QTimer::singleShot(800, &window, [&window, path] {
+  QTimer::singleShot(800, &window, [&window, path, status] {
     const bool saved = window.grab().save(path);
     std::cout << (saved ? "saved " : "could not save ") << path.toStdString() << std::endl;
-    QApplication::exit(saved ? 0 : 1);
+    QApplication::exit(saved ? status : 1);
   });
 }
 
@@ -155,6 +157,7 @@ struct LaunchOptions {
   int walk_steps = 0;  // 0: no walk at launch
   int soak_steps = 0;  // 0: no soak
   QString log_dir, screenshot, replay, dtm;
+  std::optional<Eigen::Vector2d> dtm_centre;  // in the DTM's CRS [m]; default its centre
   bool startup_time = false, responsiveness = false;
 };
 
@@ -167,7 +170,9 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   parser.addVersionOption();
   const QCommandLineOption seed_option("seed", "Seed of the simulated obstacle course.", "N", "1");
   const QCommandLineOption screenshot_option(
-      "screenshot", "After the first scan is shown, save the window to FILE (PNG) and quit.",
+      "screenshot",
+      "After the first scan is shown, save the window to FILE (PNG) and quit; after an error, "
+      "save it and exit 1.",
       "FILE");
   const QCommandLineOption walk_option(
       "walk", "Start a walk of N steps at launch; --screenshot then waits for its first proposal.",
@@ -194,10 +199,15 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   const QCommandLineOption dtm_option(
       "dtm",
       "Simulate on a real terrain model (any DTM GDAL reads: GeoTIFF, PDS3/PDS4, ISIS3; projected "
-      "CRS): a 60 m square around its centre at 10 cm.",
+      "CRS): a 60 m square around its centre (or --dtm-centre) at 10 cm.",
       "FILE");
-  parser.addOptions({dtm_option, seed_option, screenshot_option, walk_option, replay_option,
-                     log_dir_option, startup_option, responsiveness_option, soak_option});
+  const QCommandLineOption dtm_centre_option(
+      "dtm-centre",
+      "EASTING,NORTHING of the rover's start in the DTM's CRS [m] (default: the raster's centre).",
+      "E,N");
+  parser.addOptions({dtm_option, dtm_centre_option, seed_option, screenshot_option, walk_option,
+                     replay_option, log_dir_option, startup_option, responsiveness_option,
+                     soak_option});
   parser.process(app);
   LaunchOptions o;
   bool seed_ok = false;
@@ -224,6 +234,20 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   o.screenshot = parser.value(screenshot_option);
   o.replay = parser.value(replay_option);
   o.dtm = parser.value(dtm_option);
+  if (parser.isSet(dtm_centre_option)) {
+    const QStringList parts = parser.value(dtm_centre_option).split(',');
+    bool e_ok = false, n_ok = false;
+    if (parts.size() == 2)
+      o.dtm_centre = Eigen::Vector2d(parts[0].toDouble(&e_ok), parts[1].toDouble(&n_ok));
+    if (!e_ok || !n_ok || !o.dtm_centre->allFinite()) {
+      std::cerr << "ambler-gs: --dtm-centre must be EASTING,NORTHING in metres" << std::endl;
+      return std::nullopt;
+    }
+    if (o.dtm.isEmpty()) {
+      std::cerr << "ambler-gs: --dtm-centre needs --dtm" << std::endl;
+      return std::nullopt;
+    }
+  }
   o.startup_time = parser.isSet(startup_option);
   o.responsiveness = parser.isSet(responsiveness_option);
   return o;
@@ -238,7 +262,8 @@ std::optional<ambler::gs::StationOptions> stationOptions(const LaunchOptions& la
   options.log_dir = launch.log_dir;
   if (!launch.dtm.isEmpty())
     options.dtm = ambler::sim::DtmSource{
-        launch.dtm.toStdString(), {.centre = {}, .width = 60.0, .height = 60.0, .resolution = 0.1}};
+        launch.dtm.toStdString(),
+        {.centre = launch.dtm_centre, .width = 60.0, .height = 60.0, .resolution = 0.1}};
   try {
     options.scanner = ambler::sim::readScannerModel(ambler::findResource("config/scanner.json"));
     options.ground = ambler::gait::readInstalledGaitContext();
@@ -280,7 +305,8 @@ void printStartupTimes(ambler::widgets::MainWindow& window, const QElapsedTimer&
 }
 
 // --screenshot: the window once what the launch shows first is on screen
-// (the replayed log, the walk's first proposal, or the first scan).
+// (the replayed log, the walk's first proposal, or the first scan), or an
+// error instead.
 void screenshotWhenReady(ambler::gs::GroundStation& station, const LaunchOptions& launch) {
   auto& window = station.window();
   const QString path = launch.screenshot;
@@ -293,6 +319,13 @@ void screenshotWhenReady(ambler::gs::GroundStation& station, const LaunchOptions
   else
     QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
                      [&window, path] { screenshotOnce(window, path); });
+  // What the launch asked for cannot come (a terrain model refused, say):
+  // the window with the error in its status line, and exit 1.
+  QObject::connect(&window, &ambler::widgets::MainWindow::errorShown, &window,
+                   [&window, path](const QString& message) {
+                     std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
+                     screenshotOnce(window, path, 1);
+                   });
 }
 
 }  // namespace

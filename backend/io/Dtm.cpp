@@ -18,6 +18,12 @@ namespace {
 // Caps what one load may allocate: 2^28 cells, as for TIFFs.
 constexpr double kMaxCells = double(1L << 28);
 
+// Heights beyond this are no-data markers the band does not declare: ISIS3's
+// special pixels other than NULL (LRS, LIS, HIS, HRS, all near -3.4e38),
+// which GDAL leaves as values, and the float extremes other tools use. No
+// body's radius comes near it.
+constexpr double kImplausibleHeightM = 1e9;
+
 struct DatasetCloser {
   void operator()(GDALDataset* d) const { GDALClose(d); }
 };
@@ -187,13 +193,12 @@ Source readSource(const std::filesystem::path& path, GDALRasterBand& band, doubl
     fail(path, std::string("cannot read its pixels: ") + CPLGetLastErrorMsg());
   s.z.resize(raw.size());
   for (std::size_t k = 0; k < raw.size(); ++k) {
+    const double metres =
+        ((has_scale ? scale : 1.0) * raw[k] + (has_offset ? offset : 0.0)) * z_unit;
     const bool missing =
         (has_nodata && (raw[k] == nodata || (std::isnan(nodata) && std::isnan(raw[k])))) ||
-        !std::isfinite(raw[k]);
-    s.z[k] =
-        missing
-            ? NAN
-            : float(((has_scale ? scale : 1.0) * raw[k] + (has_offset ? offset : 0.0)) * z_unit);
+        !(std::abs(metres) < kImplausibleHeightM);
+    s.z[k] = missing ? NAN : float(metres);
   }
   return s;
 }
@@ -228,6 +233,9 @@ Dtm readDtm(const std::filesystem::path& path, const DtmWindow& window) {
       dtm.heights(r, c) = float(average ? cellMean(s, p.x() - res / 2, p.y() - res / 2, res)
                                         : bilinear(s, p.x(), p.y()));
     }
+  if (std::none_of(dtm.heights.pixels.begin(), dtm.heights.pixels.end(),
+                   [](float z) { return std::isfinite(z); }))
+    fail(path, "has no heights in the window (all no-data)");
   return dtm;
 }
 

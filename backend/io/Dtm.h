@@ -32,11 +32,13 @@ struct Dtm {
 // Reads any DTM GDAL reads: GeoTIFF, PDS3, PDS4 and ISIS3 cubes (the
 // formats of HiRISE and CTX DTMs), among others. Honours the band's
 // no-data value, scale and offset, its unit (m, km, ft) and the CRS's
-// linear unit. Resampling is bilinear, or the mean of the source pixels in
-// a cell when the cell is over 1.5 source pixels wide; a cell touching
-// no-data has none. Throws FormatError naming the file and the problem: not
-// a raster, rotated or geographic (degrees) coordinates, an unknown height
-// unit, a window off the raster or too large, a non-positive resolution.
+// linear unit; heights beyond 1e9 m are undeclared no-data markers
+// (ISIS3's special pixels besides NULL). Resampling is bilinear, or the
+// mean of the source pixels in a cell when the cell is over 1.5 source
+// pixels wide; a cell touching no-data has none. Throws FormatError naming
+// the file and the problem: not a raster, rotated or geographic (degrees)
+// coordinates, an unknown height unit, a window off the raster, too large
+// or holding no heights at all, a non-positive resolution.
 Dtm readDtm(const std::filesystem::path& path, const DtmWindow& window = {});
 
 // A GeoTIFF of `image` on `grid` (GridSpec convention, so the

@@ -1,5 +1,9 @@
 #include "sim/CourseScene.h"
 
+#include <cmath>
+#include <cstdio>
+#include <string>
+
 #include "sim/EmbreeCaster.h"
 
 namespace ambler::sim {
@@ -19,7 +23,14 @@ CourseScene::CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel mo
       caster_(*terrain_),
       model_(std::move(model)),
       rover_(rover_xy.x(), rover_xy.y(), terrain_->height(rover_xy.x(), rover_xy.y())),
-      pose_(model_.mountPose(rover_, heading)) {}
+      pose_(model_.mountPose(rover_, heading)) {
+  if (!std::isfinite(rover_.z())) {
+    char where[64];
+    std::snprintf(where, sizeof where, "(%.2f, %.2f) m", rover_.x(), rover_.y());
+    throw NoGroundError(std::string("the terrain has no height under the scanner at ") + where +
+                        " (no-data in the terrain model; start over data with --dtm-centre)");
+  }
+}
 
 sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {
   return simulateScan(caster_, model_, pose_, noise_seed);

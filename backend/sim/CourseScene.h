@@ -19,7 +19,8 @@ class CourseScene {
   // Any procedural terrain in place of the course.
   CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
               double heading = 0.0);
-  // Any terrain at all (a DTM's, say).
+  // Any terrain at all (a DTM's, say). Throws NoGroundError when it has no
+  // height under the rover.
   CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel model,
               Eigen::Vector2d rover_xy = {0.0, 0.0}, double heading = 0.0);
   CourseScene(const CourseScene&) = delete;

@@ -119,7 +119,8 @@ std::array<double, gait::kLegCount> footLoads(const gait::Stance& stance,
                                               const gait::RoverModel& model);
 
 // Drops the feet of `stance` onto the terrain (sole z = ground under the
-// disk) and sets the link plane to the nominal height above them.
+// disk) and sets the link plane to the nominal height above them. Throws
+// NoGroundError naming the first foot with no ground under it.
 gait::Stance settleOnTerrain(gait::Stance stance, const Terrain& terrain,
                              const gait::RoverModel& model);
 

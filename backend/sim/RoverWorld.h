@@ -29,7 +29,8 @@ class RoverWorld {
              const gait::GaitOptions& gait, ExecutionNoise noise, ScannerModel scanner,
              const Box2& scanned_area);
   // Any terrain (a DTM's, say), the rover at its origin facing +y; `seed`
-  // draws the execution and scan noise.
+  // draws the execution and scan noise. Throws NoGroundError when a foot of
+  // the start has no ground under it.
   RoverWorld(std::unique_ptr<const Terrain> terrain, std::uint64_t seed,
              const gait::RoverModel& model, const gait::GaitOptions& gait, ExecutionNoise noise,
              ScannerModel scanner, const Box2& scanned_area);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "core/GridSpec.h"
@@ -22,6 +23,13 @@ class Terrain {
   virtual double maxHeightIn(const Box2& box) const = 0;
 
   virtual Box2 extent() const = 0;
+};
+
+// Thrown where the simulation needs ground the terrain has no height for:
+// the rover or the scanner set down over a terrain model's no-data.
+class NoGroundError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // Heights at the centres of `grid`'s cells (NaN off the terrain).

@@ -5,6 +5,8 @@
 #include <ogr_spatialref.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 
 #include "TempDir.h"
@@ -152,6 +154,69 @@ TEST(Dtm, RefusesWhatItCannotPlaceWithAReason) {
   std::ofstream(dir / "junk.tif") << "not a tiff";
   expectError(dir / "junk.tif", {}, "not a raster");
   expectError(dir / "missing.tif", {}, "not a raster");
+}
+
+// ISIS3 cubes mark more than NULL: the low and high representation and
+// instrument saturation pixels (LRS, LIS, HIS, HRS) are floats near
+// -3.4e38 that GDAL does not declare as no-data. Read as heights, one put a
+// simulated scanner 3.4e38 m below the ground. A window with no heights at
+// all is refused.
+TEST(Dtm, UndeclaredMarkersAreNoDataAndAnEmptyWindowIsRefused) {
+  TempDir dir;
+  GDALAllRegister();
+  const int cols = 40, rows = 30;
+  auto* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  GDALDataset* ds = mem->Create("", cols, rows, 1, GDT_Float32, nullptr);
+  double gt[6] = {1000.0, 1.0, 0.0, 5000.0 + rows, 0.0, -1.0};
+  ds->SetGeoTransform(gt);
+  ds->SetProjection(marsWkt().c_str());
+  const std::uint32_t markers[] = {0xFF7FFFFCu, 0xFF7FFFFDu, 0xFF7FFFFEu, 0xFF7FFFFFu};
+  std::vector<float> z(std::size_t(cols) * rows, 7.0f);
+  for (int k = 0; k < 4; ++k) std::memcpy(&z[std::size_t(5) * cols + 5 + 10 * k], &markers[k], 4);
+  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, cols, rows, z.data(), cols, rows,
+                                           GDT_Float32, 0, 0),
+            CE_None);
+  auto* isis = GetGDALDriverManager()->GetDriverByName("ISIS3");
+  GDALClose(isis->CreateCopy((dir / "special.cub").c_str(), ds, FALSE, nullptr, nullptr, nullptr));
+  GDALClose(ds);
+
+  // The markers at raster row 5, columns 5, 15, 25 and 35: each cell at
+  // such a pixel has no height, and every cell that has one is the ground's
+  // (bilinear resampling may take no-data up to a pixel away).
+  const auto dtm = readDtm(dir / "special.cub");
+  auto nearMarker = [](const Eigen::Vector2d& p) {
+    const double col = p.x() - 1000.0 - 0.5, row = 5000.0 + rows - p.y() - 0.5;
+    const double to_marker = std::abs(col - 5.0 - 10.0 * std::round((col - 5.0) / 10.0));
+    return std::abs(row - 5.0) <= 1.0 && to_marker <= 1.0 && col >= 4.0 && col <= 36.0;
+  };
+  int missing = 0;
+  for (int r = 0; r < dtm.grid.rows; ++r)
+    for (int c = 0; c < dtm.grid.cols; ++c) {
+      const Eigen::Vector2d p = dtm.grid.cellCenter(r, c) + dtm.centre;
+      if (std::isnan(dtm.heights(r, c))) {
+        ++missing;
+        EXPECT_TRUE(nearMarker(p)) << p.transpose();
+      } else {
+        EXPECT_FLOAT_EQ(dtm.heights(r, c), 7.0f) << p.transpose();
+      }
+    }
+  EXPECT_GE(missing, 4);
+  for (int k = 0; k < 4; ++k) {
+    const auto cell = dtm.grid.cellAt(1005.5 + 10 * k - dtm.centre.x(), 5024.5 - dtm.centre.y());
+    ASSERT_TRUE(cell);
+    EXPECT_TRUE(std::isnan(dtm.heights(cell->row, cell->col))) << "marker " << k;
+  }
+
+  // The no-data square of writeSample (easting 1010-1020, northing
+  // 5060-5070) holds no height.
+  const auto holed = writeSample(dir.path(), "GTiff", "tif", marsWkt(), "m", 1.0, 1.0, 0.0);
+  try {
+    (void)readDtm(holed, {.centre = Eigen::Vector2d(1015.0, 5065.0), .width = 6, .height = 6});
+    ADD_FAILURE() << "a window of no-data was read";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("no heights in the window"), std::string::npos)
+        << e.what();
+  }
 }
 
 // Map layers written as GeoTIFF carry the grid as a geotransform, NaN as

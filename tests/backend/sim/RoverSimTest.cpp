@@ -39,6 +39,23 @@ gait::Stance start(const Terrain& t, const gait::RoverModel& m) {
   return settleOnTerrain(gait::nominalStance({{0, 0}, 0.0, 2.4}, m, gait::GaitOptions{}), t, m);
 }
 
+// A terrain model's no-data under a foot of the start: refused, naming the
+// foot, rather than a stance at NaN.
+TEST(RoverSim, RefusesToStartWithAFootOverNoData) {
+  const gait::RoverModel m;
+  const BlockGround hole_under_foot_3({1.5, -1.5, 3.0, 0.0}, NAN);
+  try {
+    (void)start(hole_under_foot_3, m);
+    ADD_FAILURE() << "settled over no-data";
+  } catch (const NoGroundError& e) {
+    EXPECT_NE(std::string(e.what()).find("foot 3 at (2.25, -0.75) m"), std::string::npos)
+        << e.what();
+  }
+  const BlockGround hole_between_feet({-1.0, -1.0, 1.0, 1.0}, NAN);
+  const gait::Stance s = start(hole_between_feet, m);
+  for (const auto& foot : s.feet) EXPECT_EQ(foot.z(), 0.0);
+}
+
 TEST(RoverSim, JointsArriveTogetherAndTheFootStopsOnContact) {
   const BlockGround ground;
   const gait::RoverModel m;

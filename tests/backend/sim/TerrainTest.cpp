@@ -4,7 +4,9 @@
 #include <random>
 
 #include "TempDir.h"
+#include "core/Resources.h"
 #include "io/Tiff.h"
+#include "sim/CourseScene.h"
 #include "sim/HeightfieldTerrain.h"
 #include "sim/ObstacleCourse.h"
 
@@ -117,6 +119,24 @@ TEST(HeightfieldTerrain, LoadsAndInterpolatesBilinearly) {
   EXPECT_DOUBLE_EQ(t.height(1.5, -1.5), 5.5);  // centre of four samples 0, 1, 10, 11
   EXPECT_TRUE(std::isnan(t.height(0.0, 0.0)));
   EXPECT_DOUBLE_EQ(t.maxHeightIn({1.25, -1.75, 1.6, -1.4}), 11.0);
+}
+
+// A scanner set over a terrain model's no-data is refused, not placed at NaN.
+TEST(HeightfieldTerrain, AScannerOverNoDataIsRefused) {
+  const GridSpec grid{-10.0, -10.0, 0.5, 40, 40};
+  io::FloatImage h(40, 40, 1.0f);
+  for (int r = 18; r < 22; ++r)
+    for (int c = 18; c < 22; ++c) h(r, c) = NAN;
+  const auto model = readScannerModel(findResource("config/scanner.json"));
+  try {
+    CourseScene scene(std::make_unique<HeightfieldTerrain>(h, grid), model);
+    ADD_FAILURE() << "scanner placed at z " << scene.sensorPose().translation().z();
+  } catch (const NoGroundError& e) {
+    EXPECT_NE(std::string(e.what()).find("under the scanner at (0.00, 0.00) m"), std::string::npos)
+        << e.what();
+  }
+  const CourseScene beside(std::make_unique<HeightfieldTerrain>(h, grid), model, {5.0, 5.0});
+  EXPECT_NEAR(beside.roverGround().z(), 1.0, 1e-9);
 }
 
 TEST(HeightfieldTerrain, BadSidecarIsNamed) {
