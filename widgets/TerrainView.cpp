@@ -295,6 +295,7 @@ void TerrainView::addGround() {
   float lo = INFINITY, hi = -INFINITY;
   for (float v : ground.pixels)
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (lo > hi) return;  // no known height: no surface, and no colour bar of NaN
   auto table = rendering::makeViridisTable(lo, hi);
   if (grid.cellCount() > kDetailLimit) {
     const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);

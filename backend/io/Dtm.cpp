@@ -195,9 +195,9 @@ Source readSource(const std::filesystem::path& path, GDALRasterBand& band, doubl
   for (std::size_t k = 0; k < raw.size(); ++k) {
     const double metres =
         ((has_scale ? scale : 1.0) * raw[k] + (has_offset ? offset : 0.0)) * z_unit;
+    // NaN, declared or not, fails the second test.
     const bool missing =
-        (has_nodata && (raw[k] == nodata || (std::isnan(nodata) && std::isnan(raw[k])))) ||
-        !(std::abs(metres) < kImplausibleHeightM);
+        (has_nodata && raw[k] == nodata) || !(std::abs(metres) < kImplausibleHeightM);
     s.z[k] = missing ? NAN : float(metres);
   }
   return s;

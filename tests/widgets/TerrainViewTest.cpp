@@ -102,6 +102,45 @@ class TerrainViewTest : public QObject {
     QVERIFY2(seen.surface_seen > 0.45 * seen.surface,
              qPrintable(QString("%1 of %2 pixels").arg(seen.surface_seen).arg(seen.surface)));
   }
+
+  // Ground with no known height (a scene over a terrain model's no-data)
+  // draws no surface and no colour bar: the bar's range came out NaN, and
+  // its ticks read -nan in white. One known height brings the bar back.
+  void groundWithNoKnownHeightDrawsNoColourBar() {
+    ambler::widgets::ScanDisplay display;
+    display.ground_grid = GridSpec::covering({-6, -2, 6, 14}, 0.1);
+    display.ground =
+        ambler::io::FloatImage(display.ground_grid.rows, display.ground_grid.cols, NAN);
+    TerrainView view;
+    view.resize(640, 480);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    struct Drawn {
+      int white = 0, coloured = 0;
+    };
+    auto drawn = [&] {
+      QTest::qWait(50);  // the rebuild is queued
+      const QImage image = view.view()->renderedImage();
+      Drawn d;
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+          const QColor c = image.pixelColor(x, y);
+          d.white += c.lightness() > 200 && c.hsvSaturationF() < 0.1;
+          d.coloured += c.hsvSaturationF() >= 0.3;
+        }
+      return d;
+    };
+    view.setScene(display);
+    const Drawn empty = drawn();
+    QCOMPARE(empty.white, 0);
+    QCOMPARE(empty.coloured, 0);
+    display.ground(40, 60) = 0.2f;
+    display.ground(41, 60) = 0.3f;
+    view.setScene(display);
+    const Drawn two = drawn();
+    QVERIFY2(two.white > 50, qPrintable(QString::number(two.white)));  // the title and ticks
+    QVERIFY2(two.coloured > 1000, qPrintable(QString::number(two.coloured)));
+  }
 };
 
 int main(int argc, char** argv) {
