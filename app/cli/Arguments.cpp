@@ -36,6 +36,16 @@ Box2 parseRegion(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
+GridSpec gridOver(const Box2& region, double resolution, const std::string& what) {
+  const auto grid = GridSpec::covering(region, resolution);
+  if (double(grid.rows) * grid.cols > 5e7)
+    throw std::invalid_argument(what + " of " + std::to_string(grid.rows) + "x" +
+                                std::to_string(grid.cols) +
+                                " cells is too large; use a coarser --resolution or a smaller "
+                                "--region");
+  return grid;
+}
+
 void printJson(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
 
 nlohmann::json matrixJson(const Eigen::Isometry3d& motion) {

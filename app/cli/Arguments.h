@@ -18,6 +18,11 @@ std::vector<double> parseNumbers(const std::string& text, std::size_t count,
 // "XMIN,YMIN,XMAX,YMAX" [m]; throws std::invalid_argument naming the problem.
 Box2 parseRegion(const std::string& text);
 
+// The grid of `resolution` cells over `region`, at most 5e7 cells (a map of
+// several layers then takes a few GB); throws std::invalid_argument naming
+// `what` and its size otherwise.
+GridSpec gridOver(const Box2& region, double resolution, const std::string& what);
+
 inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();

@@ -273,7 +273,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
   if (seeds.empty() && a.tuning) seeds.assign(sim::kTuningSeeds.begin(), sim::kTuningSeeds.end());
   if (seeds.empty()) seeds.assign(sim::kEvaluationSeeds.begin(), sim::kEvaluationSeeds.end());
   const terrain::LocusOptions& options = a.locus;
-  const auto grid = GridSpec::covering(region, a.resolution);
+  const auto grid = gridOver(region, a.resolution, "map");
   const auto regions = footholdRegions(region);
   const auto foot = footfall::readFootfallConfig(findResource("config/footfall.json")).foot;
   Scores pooled;

@@ -24,12 +24,7 @@ struct MapArgs {
 void runMap(const MapArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const auto image = sensor::readRangeImage(a.range);
-  const auto grid = GridSpec::covering(parseRegion(a.region), a.resolution);
-  if (double(grid.rows) * grid.cols > 5e7)
-    throw std::invalid_argument("map of " + std::to_string(grid.rows) + "x" +
-                                std::to_string(grid.cols) +
-                                " cells is too large; use a coarser --resolution or a smaller "
-                                "--region");
+  const auto grid = gridOver(parseRegion(a.region), a.resolution, "map");
   const auto build_start = std::chrono::steady_clock::now();
   const auto map = a.method == "locus" ? terrain::buildLocusMap(image, grid, a.locus)
                                        : terrain::buildBinnedMap(image, grid);

@@ -71,12 +71,7 @@ void runSimScan(const SimScanArgs& a) {
   const double scan_ms = millisecondsSince(scan_start);
 
   const Box2 region = a.region.empty() ? scene.footprint() : parseRegion(a.region);
-  const auto grid = GridSpec::covering(region, a.resolution);
-  if (double(grid.rows) * grid.cols > 5e7)
-    throw std::invalid_argument("truth grid of " + std::to_string(grid.rows) + "x" +
-                                std::to_string(grid.cols) +
-                                " cells is too large; "
-                                "use a coarser --resolution or a smaller --region");
+  const auto grid = gridOver(region, a.resolution, "truth grid");
   const auto truth_start = std::chrono::steady_clock::now();
   const auto truth = scene.truth(grid);
   const double truth_ms = millisecondsSince(truth_start);

@@ -399,6 +399,14 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
   EXPECT_EQ(bad_region.exit_code, 1);
   EXPECT_NE(bad_region.out.find("'x' is not a number"), std::string::npos) << bad_region.out;
 
+  // A kilometre square at 5 cm is 400 million cells: refused at once (eval
+  // elevation had grown to 2.5 GB after 12 s, and kept on).
+  for (const char* command : {"eval elevation --json", "sim-scan --out /dev/null"}) {
+    const auto huge = runCli(std::string(command) + " --region 0,0,1000,1000");
+    EXPECT_EQ(huge.exit_code, 1) << command << huge.out;
+    EXPECT_NE(huge.out.find("of 20000x20000 cells is too large"), std::string::npos) << huge.out;
+  }
+
   const auto out_of_range = runCli("sim-scan --out " + dir.path().string() + " --tilt 95");
   EXPECT_NE(out_of_range.exit_code, 0);
   EXPECT_NE(out_of_range.out.find("--tilt"), std::string::npos) << out_of_range.out;
