@@ -186,15 +186,19 @@ bool takeOver(Console& c, link::CommandSigner& signer, const DriveArgs& a, doubl
 // one it replaces, which took it back with a command late from the outage
 // and then stopped (its silence hands authority on to a console that asked),
 // or one still in command (which has to hand over). It asks and waits, as a
-// take-over does; false on the timeout.
+// take-over does, even when the last heartbeat named no holder: that
+// heartbeat may predate such a late command, and a Resume sent on its word
+// was refused (LongOutage/10s, now and then). Asking when nobody holds
+// authority is granted at once. False on the timeout.
 bool authorityToResume(Console& c, link::CommandSigner& signer, const DriveArgs& a,
                        double start_s) {
   const double until_s = link::utcNowS() + a.discovery_wait_s;
   while (!c.link.heardHeartbeat() && link::utcNowS() < until_s)
     c.link.receive(std::chrono::milliseconds(50));
   const std::string holder = c.link.holder();
-  if (holder.empty() || holder == signer.console()) return true;
-  printLine({{"event", holder + " holds command authority"}, {"t_s", link::utcNowS() - start_s}});
+  if (holder == signer.console()) return true;
+  if (!holder.empty())
+    printLine({{"event", holder + " holds command authority"}, {"t_s", link::utcNowS() - start_s}});
   return takeOver(c, signer, a, start_s);
 }
 
@@ -360,8 +364,8 @@ void addDrive(CLI::App& app) {
                 "release every step that passes its interlocks without asking (required: there "
                 "is no operator here)");
   cmd->add_flag("--resume", args->resume,
-                "end a hold the rover is in (after a Hold or a link loss) before walking; when "
-                "another console holds command authority, ask for it and wait first");
+                "end a hold the rover is in (after a Hold or a link loss) before walking, after "
+                "asking for command authority and waiting for it (another console may hold it)");
   cmd->add_flag("--watch", args->watch,
                 "only watch and record (no key needed) until SIGTERM or the timeout");
   cmd->add_flag("--take-over", args->take_over,
