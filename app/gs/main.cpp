@@ -185,7 +185,8 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   const QCommandLineOption startup_option(
       "startup-time",
       "Print as JSON the time from launch to the first rendered 3-D frame and to the first scan "
-      "shown, and the 3-D view's frame time with the camera still and moving; quit.");
+      "shown, and the 3-D view's frame time with the camera still and moving; quit (exit 1 "
+      "after an error).");
   const QCommandLineOption responsiveness_option(
       "measure-responsiveness",
       "Run an auto-approved walk of 25 steps (or --walk N), a rock fit and the terrain mesh, "
@@ -277,7 +278,7 @@ std::optional<ambler::gs::StationOptions> stationOptions(const LaunchOptions& la
 
 // --startup-time: once the first scan is shown, prints the times from
 // `since_start` to the first 3-D frame and to the scan, and the 3-D view's
-// frame times, as JSON; quits.
+// frame times, as JSON; quits (with 1 after an error instead).
 void printStartupTimes(ambler::widgets::MainWindow& window, const QElapsedTimer& since_start) {
   auto first_frame = std::make_shared<qint64>(-1);
   QObject::connect(window.terrainView()->view(), &ambler::rendering::VtkView::frameRendered,
@@ -301,6 +302,12 @@ void printStartupTimes(ambler::widgets::MainWindow& window, const QElapsedTimer&
                                << ", \"frame_ms_moving\": " << moving.first
                                << ", \"cells_moving\": " << moving.second << "}" << std::endl;
                      QApplication::exit(0);
+                   });
+  // No scan will come (a terrain model refused, say): say why, exit 1.
+  QObject::connect(&window, &ambler::widgets::MainWindow::errorShown, &window,
+                   [](const QString& message) {
+                     std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
+                     QApplication::exit(1);
                    });
 }
 
