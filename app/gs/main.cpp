@@ -44,6 +44,12 @@ void screenshotOnce(QWidget& window, const QString& path, int status = 0) {
   });
 }
 
+// For the launches that quit by themselves: an error the GUI shows means
+// what they wait for will not come (a terrain model refused, say).
+void printError(const QString& message) {
+  std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
+}
+
 // The median time of ten frames of the 3-D view at one level of detail
 // (VTK's render on the view's render thread and reading it back), and the
 // cells drawn.
@@ -84,6 +90,12 @@ void measureResponsiveness(ambler::gs::GroundStation& station,
     window.approvalPanel()->autoApproveSwitch()->setChecked(true);
     station.startWalk(steps);
   });
+  QObject::connect(&window, &ambler::widgets::MainWindow::errorShown, &station,
+                   [started](const QString& message) {
+                     if (started->isValid()) return;  // before the walk only: no scan will come
+                     printError(message);
+                     QApplication::exit(1);
+                   });
   auto* poll = new QTimer(&station);
   QObject::connect(poll, &QTimer::timeout, &station, [&, started, poll] {
     const auto* session = station.session();
@@ -190,7 +202,8 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   const QCommandLineOption responsiveness_option(
       "measure-responsiveness",
       "Run an auto-approved walk of 25 steps (or --walk N), a rock fit and the terrain mesh, "
-      "measuring how late the GUI thread's event loop answers; print the stalls as JSON; quit.");
+      "measuring how late the GUI thread's event loop answers; print the stalls as JSON; quit "
+      "(exit 1 after an error before the walk).");
   const QCommandLineOption soak_option(
       "soak",
       "A shift, accelerated: auto-approved walks on courses 1-10 in turn, each replayed and its "
@@ -303,10 +316,9 @@ void printStartupTimes(ambler::widgets::MainWindow& window, const QElapsedTimer&
                                << ", \"cells_moving\": " << moving.second << "}" << std::endl;
                      QApplication::exit(0);
                    });
-  // No scan will come (a terrain model refused, say): say why, exit 1.
   QObject::connect(&window, &ambler::widgets::MainWindow::errorShown, &window,
                    [](const QString& message) {
-                     std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
+                     printError(message);
                      QApplication::exit(1);
                    });
 }
@@ -326,11 +338,10 @@ void screenshotWhenReady(ambler::gs::GroundStation& station, const LaunchOptions
   else
     QObject::connect(&window, &ambler::widgets::MainWindow::scanShown, &window,
                      [&window, path] { screenshotOnce(window, path); });
-  // What the launch asked for cannot come (a terrain model refused, say):
-  // the window with the error in its status line, and exit 1.
+  // After an error, the window with the error in its status line, and exit 1.
   QObject::connect(&window, &ambler::widgets::MainWindow::errorShown, &window,
                    [&window, path](const QString& message) {
-                     std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
+                     printError(message);
                      screenshotOnce(window, path, 1);
                    });
 }
