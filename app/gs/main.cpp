@@ -44,8 +44,8 @@ void screenshotOnce(QWidget& window, const QString& path, int status = 0) {
   });
 }
 
-// For the launches that quit by themselves: an error the GUI shows means
-// what they wait for will not come (a terrain model refused, say).
+// An error the GUI showed, on stderr: the launches that quit by themselves
+// end on it, as what they wait for will not come (a terrain model refused).
 void printError(const QString& message) {
   std::cerr << "ambler-gs: error: " << message.toStdString() << std::endl;
 }

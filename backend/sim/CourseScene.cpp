@@ -1,8 +1,6 @@
 #include "sim/CourseScene.h"
 
 #include <cmath>
-#include <cstdio>
-#include <string>
 
 #include "sim/EmbreeCaster.h"
 
@@ -24,12 +22,7 @@ CourseScene::CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel mo
       model_(std::move(model)),
       rover_(rover_xy.x(), rover_xy.y(), terrain_->height(rover_xy.x(), rover_xy.y())),
       pose_(model_.mountPose(rover_, heading)) {
-  if (!std::isfinite(rover_.z())) {
-    char where[64];
-    std::snprintf(where, sizeof where, "(%.2f, %.2f) m", rover_.x(), rover_.y());
-    throw NoGroundError(std::string("the terrain has no height under the scanner at ") + where +
-                        " (no-data in the terrain model; start over data with --dtm-centre)");
-  }
+  if (!std::isfinite(rover_.z())) throw noGroundAtStart("the scanner", rover_.head<2>());
 }
 
 sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {

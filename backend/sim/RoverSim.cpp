@@ -2,7 +2,6 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -294,13 +293,8 @@ gait::Stance settleOnTerrain(gait::Stance stance, const Terrain& terrain,
   for (int leg = 0; leg < gait::kLegCount; ++leg) {
     auto& foot = stance.feet[leg];
     foot.z() = groundUnderFoot(terrain, foot.head<2>(), 0.5 * model.foot_diameter_m);
-    if (!std::isfinite(foot.z())) {
-      char where[96];
-      std::snprintf(where, sizeof where, "foot %d at (%.2f, %.2f) m", leg, foot.x(), foot.y());
-      throw NoGroundError(std::string("the terrain has no height under ") + where +
-                          " of the rover's start (no-data in the terrain model; start over data "
-                          "with --dtm-centre)");
-    }
+    if (!std::isfinite(foot.z()))
+      throw noGroundAtStart("foot " + std::to_string(leg), foot.head<2>());
   }
   stance.body.link_z = gait::linkHeightFor(stance, model);
   return stance;

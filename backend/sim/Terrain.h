@@ -1,7 +1,10 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/GridSpec.h"
@@ -31,6 +34,15 @@ class NoGroundError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// The NoGroundError of `what` ("the scanner", "foot 3") set down at `xy`.
+inline NoGroundError noGroundAtStart(const std::string& what, const Eigen::Vector2d& xy) {
+  char where[64];
+  std::snprintf(where, sizeof where, " at (%.2f, %.2f) m", xy.x(), xy.y());
+  return NoGroundError("the terrain has no height under " + what + where +
+                       ", where the rover starts (no-data in the terrain model; start over data "
+                       "with --dtm-centre)");
+}
 
 // Heights at the centres of `grid`'s cells (NaN off the terrain).
 inline io::FloatImage sampleHeights(const Terrain& terrain, const GridSpec& grid) {
