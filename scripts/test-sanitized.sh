@@ -14,5 +14,5 @@ cmake --build build/asan
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0"
-xvfb-run -a -s "-screen 0 1280x800x24" \
+xvfb-run -a -s "-noreset -screen 0 1280x800x24" \
   ctest --test-dir build/asan --output-on-failure --timeout 1800 -j "$(nproc)" "$@"

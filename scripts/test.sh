@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
-xvfb-run -a -s "-screen 0 1280x800x24" \
+xvfb-run -a -s "-noreset -screen 0 1280x800x24" \
   ctest --test-dir build --output-on-failure --timeout 600 -j "$(nproc)"
 # The libFuzzer targets (clang, build/fuzz) on their committed regression
 # corpora and a fixed number of mutations from a fixed seed: decoders and file

@@ -173,8 +173,35 @@ struct LaunchOptions {
   bool startup_time = false, responsiveness = false;
 };
 
+// False, after saying why, when the command line combines options of which
+// one would wait for what the other never shows, or quit before it.
+bool optionsCombine(const QCommandLineParser& parser) {
+  struct Rule {
+    const char* option;
+    const char* why;
+    std::vector<const char*> excluded;
+  };
+  static const Rule rules[] = {
+      {"soak",
+       "walks courses 1-10 by itself",
+       {"replay", "dtm", "walk", "screenshot", "startup-time", "measure-responsiveness"}},
+      {"replay", "shows the log alone", {"walk", "dtm", "startup-time", "measure-responsiveness"}},
+      {"startup-time", "quits at the first scan", {"screenshot", "measure-responsiveness"}},
+      {"measure-responsiveness", "quits after its own walk", {"screenshot"}}};
+  for (const auto& rule : rules) {
+    if (!parser.isSet(rule.option)) continue;
+    for (const char* other : rule.excluded)
+      if (parser.isSet(other)) {
+        std::cerr << "ambler-gs: --" << rule.option << " " << rule.why << ": it takes no --"
+                  << other << std::endl;
+        return false;
+      }
+  }
+  return true;
+}
+
 // ambler-gs's command line; nothing, after saying which value is wrong,
-// when one is out of range.
+// when one is out of range or options do not combine.
 std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   QCommandLineParser parser;
   parser.setApplicationDescription("Ambler ground station (built-in simulator by default)");
@@ -223,6 +250,7 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
                      replay_option, log_dir_option, startup_option, responsiveness_option,
                      soak_option});
   parser.process(app);
+  if (!optionsCombine(parser)) return std::nullopt;
   LaunchOptions o;
   bool seed_ok = false;
   o.seed = parser.value(seed_option).toULongLong(&seed_ok);
