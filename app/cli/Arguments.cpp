@@ -36,6 +36,14 @@ Box2 parseRegion(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
+RoverAt parseRoverAt(const std::string& text) {
+  const auto v = parseNumbers(text, 3, "--at", "X,Y,HEADING_DEG");
+  if (std::abs(v[2]) > 360)
+    throw std::invalid_argument("--at heading " + text.substr(text.rfind(',') + 1) +
+                                " deg is outside -360..360");
+  return {{v[0], v[1]}, v[2]};
+}
+
 GridSpec gridOver(const Box2& region, double resolution, const std::string& what) {
   const auto grid = GridSpec::covering(region, resolution);
   if (double(grid.rows) * grid.cols > 5e7)

@@ -18,6 +18,15 @@ std::vector<double> parseNumbers(const std::string& text, std::size_t count,
 // "XMIN,YMIN,XMAX,YMAX" [m]; throws std::invalid_argument naming the problem.
 Box2 parseRegion(const std::string& text);
 
+struct RoverAt {
+  Eigen::Vector2d xy;
+  double heading_deg = 0.0;  // 0: +y
+};
+
+// "X,Y,HEADING_DEG" ([m], [deg] within +-360); throws std::invalid_argument
+// naming the problem.
+RoverAt parseRoverAt(const std::string& text);
+
 // The grid of `resolution` cells over `region`, at most 5e7 cells (a map of
 // several layers then takes a few GB); throws std::invalid_argument naming
 // `what` and its size otherwise.

@@ -179,11 +179,13 @@ void addSimCamera(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder")->required();
   cmd->callback([args] {
-    const auto at = parseNumbers(args->at, 3, "--at", "X,Y,HEADING_DEG");
+    const auto at = parseRoverAt(args->at);
     const auto camera = vision::readCameraFile(findResource("config/camera.json")).camera;
-    const sim::CourseScene scene(args->seed,
-                                 sim::readScannerModel(findResource("config/scanner.json")));
-    const auto render = shadedCourse(scene, camera, {at[0], at[1]}, at[2] * M_PI / 180, args->seed);
+    const double heading = at.heading_deg * M_PI / 180;
+    // Placed where the camera stands, so that a start off the course is refused.
+    const sim::CourseScene scene(
+        args->seed, sim::readScannerModel(findResource("config/scanner.json")), at.xy, heading);
+    const auto render = shadedCourse(scene, camera, at.xy, heading, args->seed);
     io::ByteImage grey(render.grey.rows, render.grey.cols);
     for (std::size_t i = 0; i < grey.pixels.size(); ++i)
       grey.pixels[i] = static_cast<unsigned char>(std::lround(render.grey.pixels[i]));

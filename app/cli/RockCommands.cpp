@@ -241,6 +241,8 @@ void runFitRock(const FitRockArgs& args) {
       seeds.push_back(s.pixel);
   } else {
     const auto rc = parseNumbers(args.seed, 2, "--seed", "ROW,COL");
+    if (rc[0] != std::round(rc[0]) || rc[1] != std::round(rc[1]))
+      throw std::invalid_argument("--seed '" + args.seed + "': ROW and COL are whole pixels");
     seeds.push_back({rc[1], rc[0]});
   }
   nlohmann::json rocks = nlohmann::json::array();

@@ -61,11 +61,11 @@ void writeTruth(const sim::VisibilityTruth& truth, const std::filesystem::path& 
 
 void runSimScan(const SimScanArgs& a) {
   const auto start = std::chrono::steady_clock::now();
-  const auto at = parseNumbers(a.at, 3, "--at", "X,Y,HEADING_DEG");
+  const auto at = parseRoverAt(a.at);
   const auto family = sim::parseFamily(a.family);
   if (!family) throw CLI::ValidationError("--family", "unknown terrain family '" + a.family + "'");
-  const sim::CourseScene scene(sim::makeFamilyTerrain(*family, a.seed), scannerModel(a),
-                               {at[0], at[1]}, at[2] * kDeg);
+  const sim::CourseScene scene(sim::makeFamilyTerrain(*family, a.seed), scannerModel(a), at.xy,
+                               at.heading_deg * kDeg);
   const auto scan_start = std::chrono::steady_clock::now();
   const auto scan = scene.scan(a.seed);
   const double scan_ms = millisecondsSince(scan_start);
@@ -98,7 +98,7 @@ void runSimScan(const SimScanArgs& a) {
         {{"x", scan.sensor_to_world.translation().x()},
          {"y", scan.sensor_to_world.translation().y()},
          {"z", scan.sensor_to_world.translation().z()},
-         {"heading_deg", at[2]}}},
+         {"heading_deg", at.heading_deg}}},
        {"rows", scan.rows()},
        {"cols", scan.cols()},
        {"returns", scan.returnCount()},

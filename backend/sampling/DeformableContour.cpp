@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
@@ -143,10 +144,15 @@ double Contour::areaPx() const { return std::abs(signedArea(points)); }
 Contour growContour(const FeatureMap& features, const Eigen::Vector2d& seed,
                     const ContourOptions& o, const ContourObserver& observer) {
   validate(o);
-  const int row = int(std::lround(seed.y())), col = int(std::lround(seed.x()));
-  if (row < 0 || col < 0 || row >= features.rows || col >= features.cols)
-    throw std::invalid_argument("seed (" + std::to_string(row) + ", " + std::to_string(col) +
-                                ") is outside the image");
+  // Checked before rounding: a seed far off the image does not fit in an int.
+  const Eigen::Vector2d pixel = seed.array().round();
+  if (!(pixel.y() >= 0 && pixel.x() >= 0 && pixel.y() < features.rows &&
+        pixel.x() < features.cols)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "seed (%g, %g) is outside the image", seed.y(), seed.x());
+    throw std::invalid_argument(text);
+  }
+  const int row = int(pixel.y()), col = int(pixel.x());
   if (features.isFeature(row, col))
     throw std::invalid_argument("seed (" + std::to_string(row) + ", " + std::to_string(col) + ") " +
                                 (features.kindAt(row, col) & kShadow

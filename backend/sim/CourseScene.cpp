@@ -22,7 +22,7 @@ CourseScene::CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel mo
       model_(std::move(model)),
       rover_(rover_xy.x(), rover_xy.y(), terrain_->height(rover_xy.x(), rover_xy.y())),
       pose_(model_.mountPose(rover_, heading)) {
-  if (!std::isfinite(rover_.z())) throw noGroundAtStart("the scanner", rover_.head<2>());
+  if (!std::isfinite(rover_.z())) throw noGroundAtStart("the scanner", rover_.head<2>(), *terrain_);
 }
 
 sensor::RangeImage CourseScene::scan(std::uint64_t noise_seed) const {

@@ -11,7 +11,8 @@ namespace ambler::sim {
 
 // A procedural terrain (by default the obstacle course of one seed) with the rover standing on it
 // and its scanner mounted: what every simulated scan needs (terrain, ray caster, sensor pose).
-// Holds references between its parts, so it does not move.
+// Holds references between its parts, so it does not move. Each constructor
+// throws NoGroundError when the terrain has no height under the rover.
 class CourseScene {
  public:
   CourseScene(std::uint64_t seed, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
@@ -19,8 +20,7 @@ class CourseScene {
   // Any procedural terrain in place of the course.
   CourseScene(TerrainDescription terrain, ScannerModel model, Eigen::Vector2d rover_xy = {0.0, 0.0},
               double heading = 0.0);
-  // Any terrain at all (a DTM's, say). Throws NoGroundError when it has no
-  // height under the rover.
+  // Any terrain at all (a DTM's, say).
   CourseScene(std::unique_ptr<const Terrain> terrain, ScannerModel model,
               Eigen::Vector2d rover_xy = {0.0, 0.0}, double heading = 0.0);
   CourseScene(const CourseScene&) = delete;

@@ -294,7 +294,7 @@ gait::Stance settleOnTerrain(gait::Stance stance, const Terrain& terrain,
     auto& foot = stance.feet[leg];
     foot.z() = groundUnderFoot(terrain, foot.head<2>(), 0.5 * model.foot_diameter_m);
     if (!std::isfinite(foot.z()))
-      throw noGroundAtStart("foot " + std::to_string(leg), foot.head<2>());
+      throw noGroundAtStart("foot " + std::to_string(leg), foot.head<2>(), terrain);
   }
   stance.body.link_z = gait::linkHeightFor(stance, model);
   return stance;

@@ -35,13 +35,23 @@ class NoGroundError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The NoGroundError of `what` ("the scanner", "foot 3") set down at `xy`.
-inline NoGroundError noGroundAtStart(const std::string& what, const Eigen::Vector2d& xy) {
-  char where[64];
-  std::snprintf(where, sizeof where, " at (%.2f, %.2f) m", xy.x(), xy.y());
-  return NoGroundError("the terrain has no height under " + what + where +
-                       ", where the rover starts (no-data in the terrain model; start over data "
-                       "with --dtm-centre)");
+// The NoGroundError of `what` ("the scanner", "foot 3") set down at `xy`
+// over `terrain`: off its extent, or over a terrain model's no-data.
+inline NoGroundError noGroundAtStart(const std::string& what, const Eigen::Vector2d& xy,
+                                     const Terrain& terrain) {
+  const Box2 e = terrain.extent();
+  char text[256];
+  if (!e.contains(xy.x(), xy.y()))
+    std::snprintf(text, sizeof text,
+                  " at (%.6g, %.6g) m, where the rover starts: off the terrain, which spans x "
+                  "%.6g..%.6g m, y %.6g..%.6g m",
+                  xy.x(), xy.y(), e.x_min, e.x_max, e.y_min, e.y_max);
+  else
+    std::snprintf(text, sizeof text,
+                  " at (%.2f, %.2f) m, where the rover starts (no-data in the terrain model; "
+                  "start over data with --dtm-centre)",
+                  xy.x(), xy.y());
+  return NoGroundError("the terrain has no height under " + what + text);
 }
 
 // Heights at the centres of `grid`'s cells (NaN off the terrain).

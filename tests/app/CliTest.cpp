@@ -124,6 +124,12 @@ TEST(Cli, FitRockFitsTheTraysRocksAndRefusesABadSeed) {
   const auto bad = runCli("fit-rock --striper " + striper + " --seed 2,2");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.out.find("seed (2, 2)"), std::string::npos) << bad.out;
+  const auto far = runCli("fit-rock --striper " + striper + " --seed 1e30,5");
+  EXPECT_EQ(far.exit_code, 1);
+  EXPECT_NE(far.out.find("seed (1e+30, 5) is outside the image"), std::string::npos) << far.out;
+  const auto fractional = runCli("fit-rock --striper " + striper + " --seed 10.5,20");
+  EXPECT_EQ(fractional.exit_code, 1);
+  EXPECT_NE(fractional.out.find("whole pixels"), std::string::npos) << fractional.out;
   EXPECT_EQ(runCli("fit-rock --striper " + striper).exit_code, 1);
 }
 
@@ -410,6 +416,13 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
   const auto out_of_range = runCli("sim-scan --out " + dir.path().string() + " --tilt 95");
   EXPECT_NE(out_of_range.exit_code, 0);
   EXPECT_NE(out_of_range.out.find("--tilt"), std::string::npos) << out_of_range.out;
+
+  for (const char* command : {"sim-scan", "sim-camera"}) {
+    const auto spun = runCli(std::string(command) + " --out /dev/null --at 0,0,1e30");
+    EXPECT_EQ(spun.exit_code, 1) << command << spun.out;
+    EXPECT_NE(spun.out.find("--at heading 1e30 deg is outside -360..360"), std::string::npos)
+        << spun.out;
+  }
 
   const auto bad_family = runCli("sim-scan --out " + dir.path().string() + " --family dunes");
   EXPECT_NE(bad_family.exit_code, 0);

@@ -135,6 +135,15 @@ TEST(DeformableContour, BadSeedsAreNamed) {
   f.kinds[55] = kShadow;
   EXPECT_THROW(growContour(f, {20, 5}), std::invalid_argument);
   EXPECT_THROW(growContour(f, {5, 5}), std::invalid_argument);  // on the shadow pixel
+  // Far beyond an int, and NaN: outside, as said, not wrapped onto a pixel.
+  for (const Eigen::Vector2d& seed : {Eigen::Vector2d(5, 1e30), Eigen::Vector2d(NAN, 5)}) {
+    try {
+      (void)growContour(f, seed);
+      ADD_FAILURE() << "seed " << seed.transpose() << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("is outside the image"), std::string::npos) << e.what();
+    }
+  }
   ContourOptions bad;
   bad.k_internal = 0;
   EXPECT_THROW(growContour(f, {2, 2}, bad), std::invalid_argument);

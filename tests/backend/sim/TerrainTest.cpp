@@ -137,6 +137,15 @@ TEST(HeightfieldTerrain, AScannerOverNoDataIsRefused) {
   }
   const CourseScene beside(std::make_unique<HeightfieldTerrain>(h, grid), model, {5.0, 5.0});
   EXPECT_NEAR(beside.roverGround().z(), 1.0, 1e-9);
+  try {  // off the terrain: its extent, not a terrain model's no-data, is the reason
+    CourseScene scene(std::make_unique<HeightfieldTerrain>(h, grid), model, {1e30, 0.0});
+    ADD_FAILURE() << "scanner placed at z " << scene.sensorPose().translation().z();
+  } catch (const NoGroundError& e) {
+    EXPECT_NE(std::string(e.what()).find("at (1e+30, 0) m, where the rover starts: off the "
+                                         "terrain, which spans x -9.75..9.75 m, y -9.75..9.75 m"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(HeightfieldTerrain, BadSidecarIsNamed) {
