@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -36,11 +37,16 @@ Box2 parseRegion(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
+void requireTurn(double degrees, const std::string& what) {
+  if (std::abs(degrees) <= 360) return;
+  char text[64];
+  std::snprintf(text, sizeof text, " %g deg is outside -360..360", degrees);
+  throw std::invalid_argument(what + text);
+}
+
 RoverAt parseRoverAt(const std::string& text) {
   const auto v = parseNumbers(text, 3, "--at", "X,Y,HEADING_DEG");
-  if (std::abs(v[2]) > 360)
-    throw std::invalid_argument("--at heading " + text.substr(text.rfind(',') + 1) +
-                                " deg is outside -360..360");
+  requireTurn(v[2], "--at heading");
   return {{v[0], v[1]}, v[2]};
 }
 

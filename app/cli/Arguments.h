@@ -18,6 +18,10 @@ std::vector<double> parseNumbers(const std::string& text, std::size_t count,
 // "XMIN,YMIN,XMAX,YMAX" [m]; throws std::invalid_argument naming the problem.
 Box2 parseRegion(const std::string& text);
 
+// Throws std::invalid_argument naming `what` when `degrees` is beyond a
+// full turn either way (1e30 deg is a typing error, not a heading).
+void requireTurn(double degrees, const std::string& what);
+
 struct RoverAt {
   Eigen::Vector2d xy;
   double heading_deg = 0.0;  // 0: +y

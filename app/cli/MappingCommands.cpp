@@ -262,6 +262,9 @@ Eigen::Isometry3d guessFrom(const std::string& text, const std::string& about_te
   const auto a = parseNumbers(about_text, 3, "--about", "X,Y,Z");
   const double deg = M_PI / 180;
   const double roll = full ? v[3] : 0, pitch = full ? v[4] : 0, yaw = full ? v[5] : v[3];
+  requireTurn(roll, "--initial roll");
+  requireTurn(pitch, "--initial pitch");
+  requireTurn(yaw, "--initial yaw");
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(yaw * deg, Eigen::Vector3d::UnitZ()) *
                              Eigen::AngleAxisd(pitch * deg, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(roll * deg, Eigen::Vector3d::UnitX()))

@@ -217,6 +217,11 @@ TEST(Cli, RegisterAlignsTwoViewsAndLocalizesAScanInTheModel) {
   const auto bad = runCli("register " + b + "/cloud.pcd " + a + "/cloud.pcd --initial 1,2,x,4");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("--initial"), std::string::npos) << bad.out;
+  const auto spun =
+      runCli("register " + b + "/cloud.pcd " + a + "/cloud.pcd --initial 0,0,0,1e30,0,0");
+  EXPECT_EQ(spun.exit_code, 1);
+  EXPECT_NE(spun.out.find("--initial roll 1e+30 deg is outside -360..360"), std::string::npos)
+      << spun.out;
 }
 
 // A pair of noise-free scans from sim-pairs, in the world frame, from the
@@ -420,7 +425,7 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
   for (const char* command : {"sim-scan", "sim-camera"}) {
     const auto spun = runCli(std::string(command) + " --out /dev/null --at 0,0,1e30");
     EXPECT_EQ(spun.exit_code, 1) << command << spun.out;
-    EXPECT_NE(spun.out.find("--at heading 1e30 deg is outside -360..360"), std::string::npos)
+    EXPECT_NE(spun.out.find("--at heading 1e+30 deg is outside -360..360"), std::string::npos)
         << spun.out;
   }
 
