@@ -140,8 +140,19 @@ std::string verdictName(Verdict verdict) {
 Database::Database(const std::filesystem::path& path, bool writable)
     : path_(path), writable_(writable) {
   if (!writable && !std::filesystem::exists(path)) throw LogError(path.string() + ": no such file");
+  if (std::filesystem::is_directory(path))
+    throw LogError(path.string() + ": is a folder, not a mission log");
   const int flags = writable ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE : SQLITE_OPEN_READONLY;
-  if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) fail("opening");
+  if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
+    // SQLite allocates the handle even then, and a constructor that throws
+    // runs no destructor.
+    try {
+      fail("opening");
+    } catch (...) {
+      sqlite3_close_v2(std::exchange(db_, nullptr));
+      throw;
+    }
+  }
   sqlite3_busy_timeout(db_, 2000);
 }
 

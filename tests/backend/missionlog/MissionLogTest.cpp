@@ -114,6 +114,17 @@ TEST_F(MissionLogTest, FilesThatAreNotMissionLogsAreNamedAndRefused) {
     other.exec("CREATE TABLE t(x);");
   }
   expectRefused(dir_ / "other.sqlite", "not a mission log (no such table: meta)");
+  expectRefused(dir_, "is a folder, not a mission log");
+  // SQLite's open itself fails. The handle it allocates anyway is closed
+  // (the sanitized suite finds the leak otherwise).
+  try {
+    MissionLog log(dir_ / "no-such-folder" / "walk.sqlite", "mission");
+    FAIL() << "opened a log in a folder that is not there";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("opening the mission log: unable to open database file"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A log's damage is named whatever form it takes: a wrong schema version, a
