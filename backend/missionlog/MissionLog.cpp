@@ -6,6 +6,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <system_error>
 #include <utility>
 
 namespace ambler::missionlog {
@@ -139,9 +140,17 @@ std::string verdictName(Verdict verdict) {
 
 Database::Database(const std::filesystem::path& path, bool writable)
     : path_(path), writable_(writable) {
-  if (!writable && !std::filesystem::exists(path)) throw LogError(path.string() + ": no such file");
-  if (std::filesystem::is_directory(path))
+  // The error_code forms: a name the file system refuses (too long, say) is
+  // left to SQLite to name rather than thrown as a filesystem_error.
+  std::error_code ignored;
+  if (!writable && !std::filesystem::exists(path, ignored))
+    throw LogError(path.string() + ": no such file");
+  if (std::filesystem::is_directory(path, ignored))
     throw LogError(path.string() + ": is a folder, not a mission log");
+  const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  if (writable && !std::filesystem::is_directory(folder, ignored))
+    throw LogError(path.string() + ": there is no folder " + folder.string() +
+                   " to write the mission log in");
   const int flags = writable ? SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE : SQLITE_OPEN_READONLY;
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     // SQLite allocates the handle even then, and a constructor that throws

@@ -115,16 +115,22 @@ TEST_F(MissionLogTest, FilesThatAreNotMissionLogsAreNamedAndRefused) {
   }
   expectRefused(dir_ / "other.sqlite", "not a mission log (no such table: meta)");
   expectRefused(dir_, "is a folder, not a mission log");
-  // SQLite's open itself fails. The handle it allocates anyway is closed
-  // (the sanitized suite finds the leak otherwise).
-  try {
-    MissionLog log(dir_ / "no-such-folder" / "walk.sqlite", "mission");
-    FAIL() << "opened a log in a folder that is not there";
-  } catch (const LogError& e) {
-    EXPECT_NE(std::string(e.what()).find("opening the mission log: unable to open database file"),
-              std::string::npos)
-        << e.what();
-  }
+  const auto expectNotCreated = [](const std::filesystem::path& path, const std::string& words) {
+    try {
+      MissionLog log(path, "mission");
+      FAIL() << "created " << path;
+    } catch (const LogError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  expectNotCreated(
+      dir_ / "no-such-folder" / "walk.sqlite",
+      "there is no folder " + (dir_ / "no-such-folder").string() + " to write the mission log in");
+  // SQLite's open itself fails (a name longer than the file system takes).
+  // The handle it allocates anyway is closed (the sanitized suite finds the
+  // leak otherwise).
+  expectNotCreated(dir_ / (std::string(300, 'w') + ".sqlite"),
+                   "opening the mission log: unable to open database file");
 }
 
 // A log's damage is named whatever form it takes: a wrong schema version, a
