@@ -1,7 +1,7 @@
 # ctest: ambler-gs refuses, with exit 2 and the reason, launch options of
 # which one would wait for what the other never shows (a soak or a
-# measurement behind a replay waited forever) or quit before it; each pair
-# below is one such.
+# measurement behind a replay would wait forever) or quit before it; each
+# pair below is one such.
 set(pairs
     "--soak 3 --dtm x.tif|--soak walks courses 1-10 by itself: it takes no --dtm"
     "--soak 3 --replay x.db|--soak walks courses 1-10 by itself: it takes no --replay"

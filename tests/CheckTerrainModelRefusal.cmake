@@ -4,7 +4,7 @@
 # and --measure-responsiveness likewise exit 1 with the error; a malformed
 # --dtm-centre is refused with exit 2 before the window opens. The display
 # is ctest's (scripts/test.sh runs it under xvfb-run), as for the widget
-# tests: an xvfb-run of its own now and then failed its clean-up (exit 5).
+# tests.
 set(dir ${WORK_DIR}/terrain-model-refusal)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})

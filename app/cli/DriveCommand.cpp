@@ -187,9 +187,9 @@ bool takeOver(Console& c, link::CommandSigner& signer, const DriveArgs& a, doubl
 // and then stopped (its silence hands authority on to a console that asked),
 // or one still in command (which has to hand over). It asks and waits, as a
 // take-over does, even when the last heartbeat named no holder: that
-// heartbeat may predate such a late command, and a Resume sent on its word
-// was refused (LongOutage/10s, now and then). Asking when nobody holds
-// authority is granted at once. False on the timeout.
+// heartbeat may predate such a late command, and the rover refuses a Resume
+// sent on its word. Asking when nobody holds authority is granted at once.
+// False on the timeout.
 bool authorityToResume(Console& c, link::CommandSigner& signer, const DriveArgs& a,
                        double start_s) {
   const double until_s = link::utcNowS() + a.discovery_wait_s;
