@@ -274,7 +274,11 @@ double WalkExecutive::ackTimeoutS() const {
 
 void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, double now_s) {
   if (ack.operator_id != signer_.operatorId() || ack.console_id != signer_.consoleId()) return;
-  if (resume_ && ack.sequence == *resume_) resume_.reset(), resumed_at_s_ = rover_time_s;
+  // This console's commands reach the rover in the order sent, so the
+  // acknowledgement of a later one means the Resume was handled or lost
+  // (sent before the rover listened, its acknowledgement dropped). Waiting
+  // on would hide every hold the rover reports from now on.
+  if (resume_ && ack.sequence >= *resume_) resume_.reset(), resumed_at_s_ = rover_time_s;
   if (!awaiting_ || ack.sequence != *awaiting_) {
     // Heartbeats and Resume are not awaited; only their refusals come back.
     if (!ack.accepted)

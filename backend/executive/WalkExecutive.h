@@ -290,7 +290,7 @@ class WalkExecutive {
   std::optional<std::string> link_lost_;  // why the last command could not be sent
   std::string suspended_because_;
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
-  double resumed_at_s_ = -1e300;         // rover time of the last Resume's acknowledgement
+  double resumed_at_s_ = -1e300;         // rover time of the acknowledgement that ended it
   // The rover's time of the acknowledgement of the move under way: what it
   // reports from then on is the state after it.
   std::optional<double> move_acked_at_s_;

@@ -31,6 +31,7 @@ class CountingLink : public link::Link {
   void send(const link::Command& c) override {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
+    if (std::holds_alternative<link::Resume>(c.body) && resumes_lost++ < lose_resumes) return;
     if (const auto* m = std::get_if<link::LegMove>(&c.body)) {
       sunk_m[std::size_t(m->leg)] = sink_next_leg_m;
       if (!keep_sinking) sink_next_leg_m = 0.0;
@@ -71,6 +72,8 @@ class CountingLink : public link::Link {
   std::array<double, gait::kLegCount> sunk_m{};
   int lose_images = 0;  // the first this many range images never arrive
   int images_lost = 0;
+  int lose_resumes = 0;  // the first this many Resumes never reach the rover
+  int resumes_lost = 0;
 
  private:
   static rover::SimulatedRoverOptions options() {
@@ -870,6 +873,25 @@ TEST(Executive, ARoverHoldSuspendsTheStepUntilResumed) {
   c.pollUntil([&] { return c.executive.phase() == Phase::kDone; });
   EXPECT_EQ(c.executive.phase(), Phase::kDone) << c.executive.events().back().what;
   EXPECT_EQ(c.link.count("Resume"), 1);
+}
+
+// A Resume the rover never got (sent before it listened) is never
+// acknowledged; the rover's holds after it must still stop the walk.
+TEST(Executive, ARoverHoldIsSeenWhenTheResumeBeforeItWasLost) {
+  Console c(steps(1));
+  c.link.lose_resumes = 1;
+  c.executive.start(c.now, true);
+  c.untilDecisionNeeded();
+  ASSERT_EQ(c.link.resumes_lost, 1);
+  link::CommandSigner bob_signer(bob());
+  link::Command hold;
+  hold.rover_id = 1, hold.body = link::Hold{};
+  bob_signer.sign(hold);
+  c.link.send(hold);
+  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(c.executive.roverHolding(), "Hold from bob");
+  EXPECT_FALSE(c.gate.pending());
 }
 
 TEST(TaskTree, TasksStartInOrderAndSuspendTogether) {
