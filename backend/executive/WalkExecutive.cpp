@@ -1,6 +1,8 @@
 #include "executive/WalkExecutive.h"
 
+#include <algorithm>
 #include <iomanip>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
@@ -450,7 +452,8 @@ void WalkExecutive::planAndPropose(double now_s) {
     step_.plan_ms = 1e3 * secondsSince(t0);
     if (!fresh.ok) {
       tasks_.fail(plan_task_, now_s, fresh.reason);
-      suspend(now_s, "no step to propose: " + fresh.reason + pointTurnHint(), false);
+      suspend(now_s, "no step to propose: " + fresh.reason + pointTurnHint() + mapEdgeHint(),
+              false);
       return;
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
@@ -459,7 +462,7 @@ void WalkExecutive::planAndPropose(double now_s) {
     // A scan held back for a plan ahead goes into the map all the same.
     if (unmapped_) mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
     tasks_.fail(plan_task_, now_s, *why);
-    suspend(now_s, "no step to propose: " + *why + pointTurnHint(), false);
+    suspend(now_s, "no step to propose: " + *why + pointTurnHint() + mapEdgeHint(), false);
     return;
   }
   tasks_.finish(plan_task_, now_s);
@@ -506,6 +509,26 @@ std::string WalkExecutive::pointTurnHint() const {
   if (!opt_.heading.isPointTurn()) return {};
   return " (turning in place, the inner legs step back onto ground behind the rover, which the "
          "scanner may not have seen: walk ahead first, or turn on a wide arc)";
+}
+
+// The map keeps no ground beyond its extent, so a walk that comes within
+// a leg's reach of its far edge runs out of footholds there, whatever the
+// ground is like: say so rather than let the ground take the blame.
+std::string WalkExecutive::mapEdgeHint() const {
+  if (!reported_ || opt_.heading.isPointTurn()) return {};
+  const gait::BodyPose& body = reported_->body;
+  const Eigen::Vector2d ahead = body.rotation() * Eigen::Vector2d::UnitY();
+  const Box2 box = map_.grid().bounds();
+  double to_edge = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 2; ++axis) {
+    const double lo = axis == 0 ? box.x_min : box.y_min, hi = axis == 0 ? box.x_max : box.y_max;
+    if (ahead[axis] > 1e-9) to_edge = std::min(to_edge, (hi - body.xy[axis]) / ahead[axis]);
+    if (ahead[axis] < -1e-9) to_edge = std::min(to_edge, (lo - body.xy[axis]) / ahead[axis]);
+  }
+  const double reach = ctx_.model.extension_max_m + ctx_.model.foot_diameter_m;
+  if (!(to_edge <= reach)) return {};
+  return " (the map ends " + metres(std::max(0.0, to_edge)) +
+         " ahead of the body, within a leg's reach: it keeps no ground beyond its extent)";
 }
 
 double WalkExecutive::advanceAlongHeading(const gait::BodyPose& from,

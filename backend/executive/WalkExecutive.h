@@ -210,6 +210,7 @@ class WalkExecutive {
   // Why no step should be proposed after this one, if so.
   std::optional<std::string> noProgress(const gait::StepPlan& next) const;
   std::string pointTurnHint() const;
+  std::string mapEdgeHint() const;
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);

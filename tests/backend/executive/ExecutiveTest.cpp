@@ -894,6 +894,22 @@ TEST(Executive, ARoverHoldIsSeenWhenTheResumeBeforeItWasLost) {
   EXPECT_FALSE(c.gate.pending());
 }
 
+// A walk that reaches the far edge of its map stops for want of
+// footholds, and the reason names the edge, not the ground.
+TEST(Executive, AWalkStoppedByTheMapsEdgeSaysSo) {
+  ExecutiveOptions o = steps(40);
+  o.map_extent = {-10.0, -8.0, 10.0, 6.0};
+  Console c(o);
+  c.walkUntilItStops();
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  const std::string& why = c.executive.suspendedBecause();
+  EXPECT_NE(why.find("no step to propose"), std::string::npos) << why;
+  EXPECT_NE(why.find("the map ends"), std::string::npos) << why;
+  const double body_y = c.executive.reported()->body.xy.y();
+  EXPECT_GT(body_y, 6.0 - 2.8);
+  EXPECT_LT(body_y, 6.0);
+}
+
 TEST(TaskTree, TasksStartInOrderAndSuspendTogether) {
   TaskTree t;
   const int walk = t.add(-1, TaskKind::kGoal, "walk");
