@@ -138,11 +138,17 @@ walk::WalkOptions onCourse(const std::string& course, std::uint64_t seed, int st
   walk::WalkOptions o;
   o.course.seed = seed;
   o.steps = steps;
+  if (course == "obstacle") return o;
   // The rock fields at the top of the abundance the issue asks a walk to
-  // cross; the crater fields as their family draws them.
-  if (course == "rocks20") o.terrain = sim::makeRockField({.seed = seed, .abundance = 0.2});
+  // cross; the crater fields as their family draws them. Both as long as
+  // the traverse, and mapped as far, so that walks of 100 steps and more
+  // end on the field, not at the map's far edge.
+  const Box2 field = sim::longTraverse(seed).extent;
+  o.map_extent = walk::onLongTraverse(seed, steps).map_extent;
+  if (course == "rocks20")
+    o.terrain = sim::makeRockField({.seed = seed, .extent = field, .abundance = 0.2});
   if (course == "craters")
-    o.terrain = sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, seed);
+    o.terrain = sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, seed, field);
   return o;
 }
 
@@ -309,7 +315,7 @@ void addWalk(CLI::App& app) {
                   "obstacle: the cmu-1990 high-bay course, 50 m (box, trench, ramp, boulders, "
                   "rocks); traverse: 90 m of its ground and rocks without box, trench and ramp; "
                   "rocks20: a Golombek-Rapp rock field of 20 % abundance; craters: a crater "
-                  "field (docs/simulator.md), both 60 m")
+                  "field (docs/simulator.md), both 90 m as the traverse")
       ->check(CLI::IsMember({"obstacle", "traverse", "rocks20", "craters"}))
       ->capture_default_str();
   addWalkPathOptions(*cmd, args->path);

@@ -208,25 +208,27 @@ TerrainDescription makeSlope(const SlopeOptions& o) {
   return d;
 }
 
-TerrainDescription makeFamilyTerrain(TerrainFamily family, std::uint64_t seed) {
+TerrainDescription makeFamilyTerrain(TerrainFamily family, std::uint64_t seed, const Box2& extent) {
   // Parameters from their own stream, so that the terrain's draws do not
   // depend on how many parameters a family has.
   RandomDraw draw(seed * 7919 + std::uint64_t(family));
   switch (family) {
     case TerrainFamily::kCourse:
-      return makeObstacleCourse({.seed = seed});
+      return makeObstacleCourse({.seed = seed, .extent = extent});
     case TerrainFamily::kRockField:
-      return makeRockField({.seed = seed, .abundance = draw(0.05, 0.30)});
+      return makeRockField({.seed = seed, .extent = extent, .abundance = draw(0.05, 0.30)});
     case TerrainFamily::kCraterField:
-      return makeCraterField({.seed = seed, .density_1m = draw(0.005, 0.02)});
+      return makeCraterField({.seed = seed, .extent = extent, .density_1m = draw(0.005, 0.02)});
     case TerrainFamily::kRoughGround:
-      return makeRoughGround({.seed = seed, .hurst = draw(0.5, 0.9), .rms_1m = draw(0.02, 0.08)});
+      return makeRoughGround(
+          {.seed = seed, .extent = extent, .hurst = draw(0.5, 0.9), .rms_1m = draw(0.02, 0.08)});
     case TerrainFamily::kNegativeObstacles:
-      return makeNegativeObstacles({.seed = seed});
+      return makeNegativeObstacles({.seed = seed, .extent = extent});
     case TerrainFamily::kSlope:
-      return makeSlope({.seed = seed, .slope_deg = draw(10, 30), .uphill = draw(0, 2 * M_PI)});
+      return makeSlope(
+          {.seed = seed, .extent = extent, .slope_deg = draw(10, 30), .uphill = draw(0, 2 * M_PI)});
   }
-  return makeObstacleCourse({.seed = seed});
+  return makeObstacleCourse({.seed = seed, .extent = extent});
 }
 
 }  // namespace ambler::sim

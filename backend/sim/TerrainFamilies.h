@@ -25,6 +25,10 @@ inline constexpr std::array kTerrainFamilies{
     TerrainFamily::kCourse,      TerrainFamily::kRockField,         TerrainFamily::kCraterField,
     TerrainFamily::kRoughGround, TerrainFamily::kNegativeObstacles, TerrainFamily::kSlope};
 
+// Where a family's terrain has ground unless told otherwise: the rover
+// starts at the origin facing +y.
+inline constexpr Box2 kFamilyExtent{-20.0, -10.0, 20.0, 50.0};
+
 // "course", "rocks", "craters", "rough", "negative", "slope".
 std::string_view familyName(TerrainFamily family);
 std::optional<TerrainFamily> parseFamily(std::string_view name);
@@ -35,7 +39,7 @@ std::optional<TerrainFamily> parseFamily(std::string_view name);
 // Rocks stand about half their diameter above the ground.
 struct RockFieldOptions {
   std::uint64_t seed = 1;
-  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  Box2 extent = kFamilyExtent;
   double abundance = 0.1;     // k, the fraction of area covered by all rocks
   double d_min = 0.1;         // smaller rocks are left out [m]
   double d_max = 2.5;         // [m]
@@ -50,7 +54,7 @@ TerrainDescription makeRockField(const RockFieldOptions& options);
 // depth/diameter near 0.2 and rims 0.04 D high, on gently rolling ground.
 struct CraterFieldOptions {
   std::uint64_t seed = 1;
-  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  Box2 extent = kFamilyExtent;
   double density_1m = 0.01;  // craters >= 1 m per square metre
   double exponent = 2.0;
   double d_min = 0.5;  // [m]
@@ -66,7 +70,7 @@ TerrainDescription makeCraterField(const CraterFieldOptions& options);
 // apart has standard deviation rms_1m and grows as lag^hurst.
 struct RoughGroundOptions {
   std::uint64_t seed = 1;
-  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  Box2 extent = kFamilyExtent;
   double hurst = 0.7;
   double rms_1m = 0.05;                                 // [m]
   double wavelength_min = 0.15, wavelength_max = 25.0;  // [m]
@@ -81,7 +85,7 @@ double roughnessAt(const std::vector<Wave>& waves, double lag);
 // rover within 4-22 m.
 struct NegativeObstacleOptions {
   std::uint64_t seed = 1;
-  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  Box2 extent = kFamilyExtent;
   int trenches = 3;
   int ditches = 2;
   bool step = true;
@@ -92,7 +96,7 @@ TerrainDescription makeNegativeObstacles(const NegativeObstacleOptions& options)
 // with the course's rolling ground and scattered rocks on it.
 struct SlopeOptions {
   std::uint64_t seed = 1;
-  Box2 extent{-20.0, -10.0, 20.0, 50.0};
+  Box2 extent = kFamilyExtent;
   double slope_deg = 20.0;
   double uphill = M_PI / 2;
   int rocks = 120;
@@ -102,8 +106,9 @@ TerrainDescription makeSlope(const SlopeOptions& options);
 // One terrain of a family: the seed draws the family's parameters over
 // their stated ranges (rock abundance 5-30 %, crater density, Hurst
 // exponent 0.5-0.9, slope 10-30 degrees in any direction, ...) and then the
-// terrain.
-TerrainDescription makeFamilyTerrain(TerrainFamily family, std::uint64_t seed);
+// terrain, which has ground over `extent`.
+TerrainDescription makeFamilyTerrain(TerrainFamily family, std::uint64_t seed,
+                                     const Box2& extent = kFamilyExtent);
 
 // Seeds on which the perception's parameters may be tuned, and the disjoint
 // seeds on which it is evaluated and reported.
