@@ -110,6 +110,15 @@ struct Console {
     executive.start(now);
     for (int i = 0; i < 20 && !stopped(); ++i) pollUntil([&] { return stopped(); });
   }
+  // Another console (`key`) tells the rover to hold; polls until the walk stops.
+  void holdFrom(const link::OperatorKey& key) {
+    link::CommandSigner other(key);
+    link::Command hold;
+    hold.rover_id = 1, hold.body = link::Hold{};
+    other.sign(hold);
+    link.send(hold);
+    pollUntil([&] { return executive.phase() == Phase::kSuspended; });
+  }
   void untilDecisionNeeded() {
     pollUntil([&] { return executive.phase() == Phase::kAwaitingDecision; });
     ASSERT_EQ(executive.phase(), Phase::kAwaitingDecision);
@@ -855,12 +864,7 @@ TEST(Executive, ARoverHoldSuspendsTheStepUntilResumed) {
   c.executive.start(c.now);
   c.untilDecisionNeeded();
   const auto stale = c.gate.pending()->id;
-  link::CommandSigner bob_signer(bob());
-  link::Command hold;
-  hold.rover_id = 1, hold.body = link::Hold{};
-  bob_signer.sign(hold);
-  c.link.send(hold);
-  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  c.holdFrom(bob());
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_EQ(c.executive.roverHolding(), "Hold from bob");
   EXPECT_FALSE(c.gate.pending());
@@ -883,12 +887,7 @@ TEST(Executive, ARoverHoldIsSeenWhenTheResumeBeforeItWasLost) {
   c.executive.start(c.now, true);
   c.untilDecisionNeeded();
   ASSERT_EQ(c.link.resumes_lost, 1);
-  link::CommandSigner bob_signer(bob());
-  link::Command hold;
-  hold.rover_id = 1, hold.body = link::Hold{};
-  bob_signer.sign(hold);
-  c.link.send(hold);
-  c.pollUntil([&] { return c.executive.phase() == Phase::kSuspended; });
+  c.holdFrom(bob());
   ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
   EXPECT_EQ(c.executive.roverHolding(), "Hold from bob");
   EXPECT_FALSE(c.gate.pending());
