@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <optional>
 
 #include "InstalledConfig.h"
@@ -90,16 +91,25 @@ struct Console {
   std::vector<missionlog::Decision> decisions;
   ApprovalGate gate{[this](const missionlog::Decision& d) { decisions.push_back(d); }};
   WalkExecutive executive;
+  // The executive's clock. The in-process rover answers in real time, so
+  // this is real time too: on a slow machine the executive's timeouts and
+  // the rover's answers slow down together.
   double now = 0.0;
+  const std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
 
   explicit Console(ExecutiveOptions o = {}, gait::GaitContext ctx = ground(),
                    const rover::SimulatedRoverConfig& rover = simulator())
       : link(rover), executive(link, signer, gate, std::move(ctx), o) {}
 
-  // Polls until `done` or the rover has had 200 polls to answer.
+  void pollOnce() {
+    now = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    executive.poll(now, 20ms);
+  }
+  // Polls until `done` or the rover has had `limit_s` to answer.
   template <typename F>
-  void pollUntil(F done) {
-    for (int i = 0; i < 200 && !done(); ++i) executive.poll(now += 0.05, 20ms);
+  void pollUntil(F done, double limit_s = 60.0) {
+    const double until = now + limit_s;
+    while (!done() && now < until) pollOnce();
   }
   bool stopped() const {
     return executive.phase() == Phase::kSuspended || executive.phase() == Phase::kDone;
@@ -108,7 +118,7 @@ struct Console {
   void walkUntilItStops() {
     gate.setMode(ApprovalMode::kAutoApprove);
     executive.start(now);
-    for (int i = 0; i < 20 && !stopped(); ++i) pollUntil([&] { return stopped(); });
+    pollUntil([&] { return stopped(); }, 600.0);
   }
   // Another console (`key`) tells the rover to hold; polls until the walk stops.
   void holdFrom(const link::OperatorKey& key) {
@@ -441,7 +451,7 @@ TEST(Executive, EditingTheFootholdRechecksTheInterlocks) {
   EXPECT_TRUE(failed("foothold terrain"));
   EXPECT_TRUE(failed("reach"));
   EXPECT_NE(c.gate.approve(id, "alice", c.now).why().find("interlock"), std::string::npos);
-  c.executive.poll(c.now += 0.05, 20ms);
+  c.pollOnce();
   EXPECT_EQ(c.link.count("LegMove") + c.link.count("BodyMove"), moves_before);
   ASSERT_EQ(c.decisions.size(), 1u);
   EXPECT_EQ(c.decisions[0].verdict, missionlog::Verdict::kEdited);
@@ -702,7 +712,7 @@ TEST(Executive, AutoApproveWalksAndStillRunsTheInterlocks) {
   EXPECT_NE(p.interlocks.firstFailure().find("stability"), std::string::npos);
   d.gate.setMode(ApprovalMode::kAutoApprove);
   d.gate.propose(p, d.now);
-  d.executive.poll(d.now += 0.05, 20ms);
+  d.pollOnce();
   EXPECT_EQ(d.link.count("LegMove") + d.link.count("BodyMove"), 0);
   EXPECT_EQ(d.executive.phase(), Phase::kAwaitingDecision);
   EXPECT_TRUE(d.gate.pending());
