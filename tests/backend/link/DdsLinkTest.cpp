@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -37,11 +38,14 @@ Command signedCommand(CommandBody body, CommandSigner& signer, std::uint32_t rov
   return c;
 }
 
-// Collects telemetry until `done` says so or `rounds` x 50 ms pass.
+// Collects telemetry until `done` says so or `limit` has passed. A time,
+// not a count of receives: telemetry streams in, so receives return early.
 template <typename Done>
-std::vector<Telemetry> collect(Link& link, Done&& done, int rounds = 100) {
+std::vector<Telemetry> collect(Link& link, Done&& done,
+                               std::chrono::milliseconds limit = std::chrono::seconds(30)) {
   std::vector<Telemetry> all;
-  for (int i = 0; i < rounds && !done(all); ++i)
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (!done(all) && std::chrono::steady_clock::now() < until)
     for (auto& t : link.receive(std::chrono::milliseconds(50))) all.push_back(std::move(t));
   return all;
 }
@@ -159,7 +163,7 @@ TEST(DdsLink, AnotherRoversTrafficIsNotSeen) {
   RoverThread rover(domain);  // rover 1
   DdsLink other(domain, 2);
   const auto all = collect(
-      other, [](const auto&) { return false; }, 20);
+      other, [](const auto&) { return false; }, std::chrono::seconds(1));
   EXPECT_TRUE(all.empty());
 }
 
