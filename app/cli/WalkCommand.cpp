@@ -143,8 +143,9 @@ walk::WalkOptions onCourse(const std::string& course, std::uint64_t seed, int st
   // cross; the crater fields as their family draws them. Both as long as
   // the traverse, and mapped as far, so that walks of 100 steps and more
   // end on the field, not at the map's far edge.
-  const Box2 field = sim::longTraverse(seed).extent;
-  o.map_extent = walk::onLongTraverse(seed, steps).map_extent;
+  const walk::WalkOptions traverse = walk::onLongTraverse(seed, steps);
+  const Box2& field = traverse.course.extent;
+  o.map_extent = traverse.map_extent;
   if (course == "rocks20")
     o.terrain = sim::makeRockField({.seed = seed, .extent = field, .abundance = 0.2});
   if (course == "craters")
