@@ -155,12 +155,9 @@ Database::Database(const std::filesystem::path& path, bool writable)
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     // SQLite allocates the handle even then, and a constructor that throws
     // runs no destructor.
-    try {
-      fail("opening");
-    } catch (...) {
-      sqlite3_close_v2(std::exchange(db_, nullptr));
-      throw;
-    }
+    const std::string why = failure("opening");
+    sqlite3_close_v2(std::exchange(db_, nullptr));
+    throw LogError(why);
   }
   sqlite3_busy_timeout(db_, 2000);
 }
@@ -185,10 +182,12 @@ void Database::exec(const std::string& sql) const {
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) fail("writing");
 }
 
-void Database::fail(const std::string& what) const {
-  throw LogError(path_.string() + ": " + what +
-                 " the mission log: " + (db_ ? sqlite3_errmsg(db_) : "out of memory"));
+std::string Database::failure(const std::string& what) const {
+  return path_.string() + ": " + what +
+         " the mission log: " + (db_ ? sqlite3_errmsg(db_) : "out of memory");
 }
+
+void Database::fail(const std::string& what) const { throw LogError(failure(what)); }
 
 MissionLog::MissionLog(const std::filesystem::path& path, const std::string& mission)
     : db_(path, true) {

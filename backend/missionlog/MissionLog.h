@@ -78,6 +78,7 @@ class Database {
   [[noreturn]] void fail(const std::string& what) const;
 
  private:
+  std::string failure(const std::string& what) const;  // what fail() throws
   std::filesystem::path path_;
   bool writable_ = false;
   sqlite3* db_ = nullptr;
