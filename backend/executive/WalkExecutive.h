@@ -50,9 +50,10 @@ struct ExecutiveOptions {
   // higher: planned again from there, not an early contact.
   double late_contact_m = 0.05;
   // Early contacts in a row, with no step done between them, after which
-  // the walk suspends: the map misses what the foot meets, and planning
-  // again from the same map meets it again.
-  int max_early_contacts = 3;
+  // the walk suspends: the map misses what the feet meet. Each contact
+  // leaves the height it met in the map, so the next plan tries other
+  // ground; six: every leg could have met a rock under its sole's rim once.
+  int max_early_contacts = 6;
   // Late contacts in a row, with no step done between them, after which
   // the walk suspends: the map puts the ground too high wherever the feet
   // go (each places a leg, so without a limit they could go on for good).

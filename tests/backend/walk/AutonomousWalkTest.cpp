@@ -3,8 +3,10 @@
 // on seeds 1-5 with the default noise, scored against the simulator's truth.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "sim/TerrainFamilies.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::walk {
@@ -90,6 +92,23 @@ TEST(Walk, SingleFootSlipsAreCaughtByDeadReckoning) {
   }
   EXPECT_EQ(r.scans_registered, 0);
   EXPECT_EQ(r.csp_violations, 0);
+}
+
+// A foot that meets a rock under its sole's rim leaves the height it met in
+// the map, and the next plan chooses another foothold. On rock field 6
+// (20 %, a tuning seed) three such contacts in a row, at footholds within
+// 0.3 m of each other, come before the second step: each taught the map,
+// and the fourth plan finds ground the foot reaches.
+TEST(Walk, EarlyContactsAtNewFootholdsDoNotStopTheWalk) {
+  WalkOptions o = onLongTraverse(6, 5);
+  o.terrain = sim::makeRockField({.seed = 6, .extent = o.course.extent, .abundance = 0.2});
+  const WalkResult r = runWalk(config(), o);
+  EXPECT_EQ(r.steps, 5) << r.stopped;
+  EXPECT_TRUE(std::ranges::any_of(r.log, [](const WalkStep& s) {
+    return s.event.find("(early contact), replanned") != std::string::npos;
+  }));
+  EXPECT_EQ(r.csp_violations, 0);
+  EXPECT_EQ(r.leg_collisions, 0);
 }
 
 }  // namespace
