@@ -451,9 +451,7 @@ void WalkExecutive::planAndPropose(double now_s) {
     gait::StepPlan fresh = plan(*reported_);
     step_.plan_ms = 1e3 * secondsSince(t0);
     if (!fresh.ok) {
-      tasks_.fail(plan_task_, now_s, fresh.reason);
-      suspend(now_s, "no step to propose: " + fresh.reason + pointTurnHint() + mapEdgeHint(),
-              false);
+      noStepToPropose(now_s, fresh.reason);
       return;
     }
     proposal = makeProposal(0, *reported_, std::move(fresh), map_, ctx_);
@@ -461,8 +459,7 @@ void WalkExecutive::planAndPropose(double now_s) {
   if (const auto why = noProgress(proposal->plan)) {
     // A scan held back for a plan ahead goes into the map all the same.
     if (unmapped_) mapScan(*std::exchange(unmapped_, std::nullopt), now_s);
-    tasks_.fail(plan_task_, now_s, *why);
-    suspend(now_s, "no step to propose: " + *why + pointTurnHint() + mapEdgeHint(), false);
+    noStepToPropose(now_s, *why);
     return;
   }
   tasks_.finish(plan_task_, now_s);
@@ -500,6 +497,13 @@ std::optional<std::string> WalkExecutive::noProgress(const gait::StepPlan& next)
   }
   return "the body has " + how_far + " in the last " + std::to_string(opt_.advance_window) +
          " steps: no foothold lets it move on";
+}
+
+// The planning task fails and the walk suspends with `why` and what the
+// stance suggests the operator do about it.
+void WalkExecutive::noStepToPropose(double now_s, const std::string& why) {
+  tasks_.fail(plan_task_, now_s, why);
+  suspend(now_s, "no step to propose: " + why + pointTurnHint() + mapEdgeHint(), false);
 }
 
 // In a point turn the inner stack recovers backwards, onto ground behind

@@ -210,6 +210,7 @@ class WalkExecutive {
   double advanceAlongHeading(const gait::BodyPose& from, const gait::BodyPose& to) const;
   // Why no step should be proposed after this one, if so.
   std::optional<std::string> noProgress(const gait::StepPlan& next) const;
+  void noStepToPropose(double now_s, const std::string& why);
   std::string pointTurnHint() const;
   std::string mapEdgeHint() const;
   void handle(const link::Telemetry& message, double now_s);
