@@ -1,10 +1,13 @@
 # ctest: ambler-gs refuses, with exit 2 and the reason, launch options of
 # which one would wait for what the other never shows (a soak or a
-# measurement behind a replay would wait forever) or quit before it; each
-# pair below is one such.
+# measurement behind a replay would wait forever) or quit before it, or
+# that name a ground it does not have; each pair below is one such.
 set(pairs
     "--soak 3 --dtm x.tif|--soak walks courses 1-10 by itself: it takes no --dtm"
     "--soak 3 --replay x.db|--soak walks courses 1-10 by itself: it takes no --replay"
+    "--soak 3 --family rocks|--soak walks courses 1-10 by itself: it takes no --family"
+    "--dtm x.tif --family rocks|--dtm simulates on the terrain model: it takes no --family"
+    "--family moon|--family must be course, rocks, craters, rough, negative or slope"
     "--replay x.db --measure-responsiveness|--replay shows the log alone: it takes no --measure-responsiveness"
     "--replay x.db --startup-time|--replay shows the log alone: it takes no --startup-time"
     "--startup-time --screenshot x.png|--startup-time quits at the first scan: it takes no --screenshot")

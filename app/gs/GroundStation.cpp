@@ -70,7 +70,9 @@ std::optional<widgets::RoverDisplay> drawn(const std::optional<gait::Stance>& st
 }  // namespace
 
 GroundStation::GroundStation(StationOptions options, QObject* parent)
-    : QObject(parent), options_(std::move(options)), simulator_(options_.scanner, options_.dtm) {
+    : QObject(parent),
+      options_(std::move(options)),
+      simulator_(options_.scanner, options_.simulated_ground) {
   choice_.seed = options_.seed;
   wireWindow();
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
@@ -102,7 +104,8 @@ GroundStation::~GroundStation() {
 
 void GroundStation::wireWindow() {
   connect(&window_, &widgets::MainWindow::scanRequested, &simulator_, [this](quint64 s) {
-    window_.setBusy(tr("Scanning the simulated course (seed %1)…").arg(s));
+    window_.setBusy(tr("Scanning the simulated %1…")
+                        .arg(QString::fromStdString(options_.simulated_ground.name(s))));
     simulator_.requestScan(s);
   });
   connect(&simulator_, &SimulatorSource::scanReady, &window_,
@@ -188,18 +191,19 @@ Refusal GroundStation::connectTo(const widgets::ConnectChoice& choice) {
   // The built-in simulator starts with the first walk, so that a launch
   // without one leaves no empty log behind; a rover is connected now.
   if (choice.source == widgets::ConnectChoice::Source::kDds) return openSession();
-  window_.setStatus(
-      tr("Built-in simulator on course %1: start a walk to connect").arg(choice.seed));
+  window_.setStatus(tr("Built-in simulator on %1: start a walk to connect")
+                        .arg(QString::fromStdString(options_.simulated_ground.name(choice.seed))));
   return {};
 }
 
 Refusal GroundStation::openSession() {
   try {
-    RoverConnection rover = choice_.source == widgets::ConnectChoice::Source::kDds
-                                ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
-                                                choice_.key_file.toStdString())
-                                : simulatorConnection(options_.simulator, choice_.seed,
-                                                      options_.operator_id, options_.dtm);
+    RoverConnection rover =
+        choice_.source == widgets::ConnectChoice::Source::kDds
+            ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
+                            choice_.key_file.toStdString())
+            : simulatorConnection(options_.simulator, choice_.seed, options_.operator_id,
+                                  options_.simulated_ground);
     session_ = std::make_unique<WalkSession>(options_.ground, std::move(rover),
                                              newLogPath().toStdString());
   } catch (const std::exception& e) {

@@ -25,7 +25,7 @@ struct StationOptions {
   sim::ScannerModel scanner;              // for the range-image view's scans
   gait::GaitContext ground;               // what the station plans with
   rover::SimulatedRoverConfig simulator;  // the built-in simulator's rover
-  std::optional<sim::DtmSource> dtm;      // its terrain model, if not the course
+  SimulatedGround simulated_ground;       // the built-in simulator's: the course by default
 };
 
 // The ground station's wiring (QGroundControl style: the views never know

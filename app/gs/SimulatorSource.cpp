@@ -7,9 +7,8 @@
 
 namespace ambler::gs {
 
-SimulatorSource::SimulatorSource(sim::ScannerModel model, std::optional<sim::DtmSource> dtm,
-                                 QObject* parent)
-    : QObject(parent), model_(std::move(model)), dtm_(std::move(dtm)) {
+SimulatorSource::SimulatorSource(sim::ScannerModel model, SimulatedGround ground, QObject* parent)
+    : QObject(parent), model_(std::move(model)), ground_(std::move(ground)) {
   connect(&watcher_, &QFutureWatcher<Result>::finished, this, [this] {
     const Result result = watcher_.result();
     if (result.display)
@@ -22,17 +21,14 @@ SimulatorSource::SimulatorSource(sim::ScannerModel model, std::optional<sim::Dtm
 void SimulatorSource::requestScan(quint64 seed) {
   if (watcher_.isRunning()) return;  // one scan at a time, like the sensor
   watcher_.setFuture(runInBackground(
-      [model = model_, dtm = dtm_, seed] { return SimulatorSource::simulate(model, dtm, seed); }));
+      [model = model_, ground = ground_, seed] { return simulate(model, ground, seed); }));
 }
 
 SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model,
-                                                  const std::optional<sim::DtmSource>& dtm,
-                                                  quint64 seed) {
+                                                  const SimulatedGround& ground, quint64 seed) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    const sim::CourseScene scene =
-        dtm ? sim::CourseScene(std::make_unique<sim::HeightfieldTerrain>(sim::loadDtm(*dtm)), model)
-            : sim::CourseScene(seed, model);
+    const sim::CourseScene scene = ground.scene(seed, model);
     widgets::ScanDisplay display;
     display.scan = scene.scan(seed);
     // The ground around the rover and the scanned area, at 10 cm.

@@ -4,10 +4,9 @@
 #include <QObject>
 #include <optional>
 
+#include "app/gs/SimulatedGround.h"
 #include "sim/ScannerSim.h"
 #include "widgets/ScanDisplay.h"
-
-#include "sim/HeightfieldTerrain.h"
 
 namespace ambler::gs {
 
@@ -18,8 +17,8 @@ class SimulatorSource : public QObject {
   Q_OBJECT
 
  public:
-  // On `dtm` when given, else on the course of the requested seed.
-  explicit SimulatorSource(sim::ScannerModel model, std::optional<sim::DtmSource> dtm = {},
+  // On `ground`, drawn from the requested seed.
+  explicit SimulatorSource(sim::ScannerModel model, SimulatedGround ground = {},
                            QObject* parent = nullptr);
 
   void requestScan(quint64 seed);
@@ -33,11 +32,11 @@ class SimulatorSource : public QObject {
     std::optional<widgets::ScanDisplay> display;
     QString error;
   };
-  static Result simulate(const sim::ScannerModel& model, const std::optional<sim::DtmSource>& dtm,
+  static Result simulate(const sim::ScannerModel& model, const SimulatedGround& ground,
                          quint64 seed);
 
   sim::ScannerModel model_;
-  std::optional<sim::DtmSource> dtm_;
+  SimulatedGround ground_;
   QFutureWatcher<Result> watcher_;
 };
 

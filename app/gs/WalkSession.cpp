@@ -27,17 +27,14 @@ constexpr double kTelemetryPeriodS = 0.25;
 }  // namespace
 
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id,
-                                    const std::optional<sim::DtmSource>& dtm) {
+                                    const QString& operator_id, const SimulatedGround& ground) {
   RoverConnection c;
   c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;
-  options.course.seed = seed;
-  options.dtm = dtm;
+  ground.applyTo(seed, options);
   options.operators = {c.key};
   c.open = [config, options] { return std::make_unique<rover::InProcessLink>(config, options); };
-  const std::string where =
-      dtm ? "terrain model " + dtm->path.filename().string() : "course " + std::to_string(seed);
+  const std::string where = ground.name(seed);
   c.description = "built-in simulator on " + where;
   c.mission = "ambler-gs walk on " + where;
   return c;

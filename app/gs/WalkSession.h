@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 
+#include "app/gs/SimulatedGround.h"
 #include "app/gs/WalkState.h"
 #include "executive/WalkExecutive.h"
 #include "link/Signing.h"
@@ -28,12 +29,11 @@ struct RoverConnection {
   std::string mission;
 };
 
-// The built-in simulator on course `seed` (or on `dtm`, the seed then
-// drawing only the noise), commanded by `operator_id` with a key made for
-// this session.
+// The built-in simulator on `ground` drawn from `seed` (a terrain model's
+// seed draws only the noise), commanded by `operator_id` with a key made
+// for this session.
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id,
-                                    const std::optional<sim::DtmSource>& dtm = {});
+                                    const QString& operator_id, const SimulatedGround& ground = {});
 
 // What the operator asked for that may be refused.
 enum class OperatorAction {

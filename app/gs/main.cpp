@@ -169,6 +169,7 @@ struct LaunchOptions {
   int walk_steps = 0;  // 0: no walk at launch
   int soak_steps = 0;  // 0: no soak
   QString log_dir, screenshot, replay, dtm;
+  ambler::sim::TerrainFamily family = ambler::sim::TerrainFamily::kCourse;
   std::optional<Eigen::Vector2d> dtm_centre;  // in the DTM's CRS [m]; default its centre
   bool startup_time = false, responsiveness = false;
 };
@@ -184,8 +185,11 @@ bool optionsCombine(const QCommandLineParser& parser) {
   static const Rule rules[] = {
       {"soak",
        "walks courses 1-10 by itself",
-       {"replay", "dtm", "walk", "screenshot", "startup-time", "measure-responsiveness"}},
-      {"replay", "shows the log alone", {"walk", "dtm", "startup-time", "measure-responsiveness"}},
+       {"replay", "dtm", "family", "walk", "screenshot", "startup-time", "measure-responsiveness"}},
+      {"replay",
+       "shows the log alone",
+       {"walk", "dtm", "family", "startup-time", "measure-responsiveness"}},
+      {"dtm", "simulates on the terrain model", {"family"}},
       {"startup-time", "quits at the first scan", {"screenshot", "measure-responsiveness"}},
       {"measure-responsiveness", "quits after its own walk", {"screenshot"}}};
   for (const auto& rule : rules) {
@@ -242,13 +246,18 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
       "Simulate on a real terrain model (any DTM GDAL reads: GeoTIFF, PDS3/PDS4, ISIS3; projected "
       "CRS): a 60 m square around its centre (or --dtm-centre) at 10 cm.",
       "FILE");
+  const QCommandLineOption family_option(
+      "family",
+      "Simulate on a terrain family drawn from the seed, as the evaluations draw it: course (the "
+      "obstacle course, the default), rocks, craters, rough, negative or slope.",
+      "NAME", "course");
   const QCommandLineOption dtm_centre_option(
       "dtm-centre",
       "EASTING,NORTHING of the rover's start in the DTM's CRS [m] (default: the raster's centre).",
       "E,N");
-  parser.addOptions({dtm_option, dtm_centre_option, seed_option, screenshot_option, walk_option,
-                     replay_option, log_dir_option, startup_option, responsiveness_option,
-                     soak_option});
+  parser.addOptions({dtm_option, dtm_centre_option, family_option, seed_option, screenshot_option,
+                     walk_option, replay_option, log_dir_option, startup_option,
+                     responsiveness_option, soak_option});
   parser.process(app);
   if (!optionsCombine(parser)) return std::nullopt;
   LaunchOptions o;
@@ -276,6 +285,13 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   o.screenshot = parser.value(screenshot_option);
   o.replay = parser.value(replay_option);
   o.dtm = parser.value(dtm_option);
+  const auto family = ambler::sim::parseFamily(parser.value(family_option).toStdString());
+  if (!family) {
+    std::cerr << "ambler-gs: --family must be course, rocks, craters, rough, negative or slope"
+              << std::endl;
+    return std::nullopt;
+  }
+  o.family = *family;
   if (parser.isSet(dtm_centre_option)) {
     const QStringList parts = parser.value(dtm_centre_option).split(',');
     bool e_ok = false, n_ok = false;
@@ -302,8 +318,9 @@ std::optional<ambler::gs::StationOptions> stationOptions(const LaunchOptions& la
   options.seed = launch.seed;
   options.operator_id = qEnvironmentVariable("USER", "operator");
   options.log_dir = launch.log_dir;
+  options.simulated_ground.family = launch.family;
   if (!launch.dtm.isEmpty())
-    options.dtm = ambler::sim::DtmSource{
+    options.simulated_ground.dtm = ambler::sim::DtmSource{
         launch.dtm.toStdString(),
         {.centre = launch.dtm_centre, .width = 60.0, .height = 60.0, .resolution = 0.1}};
   try {

@@ -1,8 +1,8 @@
 // ambler-sim: the simulated Ambler served over DDS, for a ground station in
 // another process or on another host (docs/formats.md, "Link messages").
 // Verifies every command with the operators' keys, executes it on the
-// obstacle course and publishes acks, leg and body states, range images and
-// a heartbeat.
+// obstacle course (or a terrain family's ground, or a terrain model) and
+// publishes acks, leg and body states, range images and a heartbeat.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>
@@ -13,6 +13,7 @@
 #include "core/Memory.h"
 #include "link/dds/DdsMessages.h"
 #include "rover/RoverLoop.h"
+#include "sim/TerrainFamilies.h"
 
 namespace {
 
@@ -28,6 +29,7 @@ struct Args {
   int heartbeat_ms = 1000;
   double link_timeout_s = 3.0;
   double duration_s = 0.0;
+  std::string family = "course";
   std::string dtm;
   std::vector<double> dtm_centre;  // empty: the raster's centre
   double dtm_size = 60.0;
@@ -45,6 +47,8 @@ void run(const Args& a) {
   options.course.seed = a.seed;
   options.link_timeout_s = a.link_timeout_s;
   options.started_s = started_s;
+  if (const auto family = sim::parseFamily(a.family); family != sim::TerrainFamily::kCourse)
+    options.terrain = sim::makeFamilyTerrain(*family, a.seed);
   if (!a.dtm.empty()) {
     sim::DtmSource dtm{a.dtm,
                        {.width = a.dtm_size, .height = a.dtm_size, .resolution = a.dtm_resolution}};
@@ -100,7 +104,7 @@ void run(const Args& a) {
                               {"domain", a.domain},
                               {"rover_id", a.rover_id},
                               {"seed", a.seed},
-                              {"terrain", a.dtm.empty() ? "course" : a.dtm},
+                              {"terrain", a.dtm.empty() ? a.family : a.dtm},
                               {"link_timeout_s", a.link_timeout_s},
                               {"operators", options.operators.size()}}
             << std::endl;
@@ -127,10 +131,16 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--seed", a.seed, "obstacle course and execution noise seed")
       ->capture_default_str();
+  auto* family =
+      app.add_option("--family", a.family,
+                     "walk on a terrain family drawn from the seed, as the evaluations draw it")
+          ->check(CLI::IsMember({"course", "rocks", "craters", "rough", "negative", "slope"}))
+          ->capture_default_str();
   app.add_option("--dtm", a.dtm,
                  "walk on a real terrain model instead of the course: any DTM GDAL reads "
                  "(GeoTIFF, PDS3/PDS4, ISIS3), in a projected CRS")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingFile)
+      ->excludes(family);
   app.add_option("--dtm-centre", a.dtm_centre,
                  "EASTING,NORTHING of the rover's start in the DTM's CRS [m] (default: the "
                  "raster's centre)")

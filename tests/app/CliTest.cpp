@@ -29,8 +29,8 @@ struct Run {
   std::string out;  // stdout and stderr together
 };
 
-Run runCli(const std::string& args) {
-  const std::string command = std::string(AMBLER_CLI) + " " + args + " 2>&1";
+Run runProgram(const std::string& program, const std::string& args) {
+  const std::string command = program + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string out;
@@ -38,6 +38,14 @@ Run runCli(const std::string& args) {
   while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+Run runCli(const std::string& args) { return runProgram(AMBLER_CLI, args); }
+
+// ambler-sim sits next to ambler-cli.
+Run runSim(const std::string& args) {
+  return runProgram((std::filesystem::path(AMBLER_CLI).parent_path() / "ambler-sim").string(),
+                    args);
 }
 
 TEST(Cli, SimScanWritesScanAndGroundTruthThatInfoDescribes) {
@@ -755,6 +763,26 @@ TEST(Cli, EvalLinkTimesRoundTripsThroughAmblerSim) {
   EXPECT_GE(rt["max"].get<double>(), rt["p99"].get<double>());
   EXPECT_GT(j["range_images_per_s"].get<double>(), 0.0);
   EXPECT_GT(j["range_image_kb"].get<double>(), 0.0);
+}
+
+// ambler-sim stands the rover on a terrain family's ground, as ambler-gs
+// --family does, and says so when ready; an unknown family, or one beside
+// a terrain model, is refused.
+TEST(Cli, AmblerSimServesATerrainFamily) {
+  const auto domain = std::to_string(20 + ::getpid() % 200);
+  const auto run = runSim("--family craters --seed 4 --duration 0.2 --domain " + domain);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto at = run.out.find("{\"ambler_sim\":\"ready\"");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  const auto ready = nlohmann::json::parse(run.out.substr(at, run.out.find('\n', at) - at));
+  EXPECT_EQ(ready["terrain"], "craters");
+  EXPECT_EQ(ready["seed"], 4);
+  const auto moon = runSim("--family moon --duration 0.2");
+  EXPECT_NE(moon.exit_code, 0);
+  EXPECT_NE(moon.out.find("moon not in"), std::string::npos) << moon.out;
+  const auto both = runSim("--family rocks --dtm " + std::string(AMBLER_CLI) + " --duration 0.2");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.out.find("excludes"), std::string::npos) << both.out;
 }
 
 TEST(Cli, DriveRefusesToRunWithoutAnOperatorOrAutoApprove) {

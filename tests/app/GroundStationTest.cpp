@@ -34,7 +34,9 @@
 #include "rendering/VtkView.h"
 #include "sim/CourseScene.h"
 #include "sim/ObstacleCourse.h"
+#include "sim/ProceduralTerrain.h"
 #include "sim/StriperSim.h"
+#include "sim/TerrainFamilies.h"
 #include "tests/app/TestStation.h"
 #include "tests/widgets/Hover.h"
 #include "widgets/CommandLogView.h"
@@ -243,6 +245,43 @@ class GroundStationTest : public QObject {
     QVERIFY2(known > 2000, qPrintable(QString::number(known)));
     QVERIFY(unknown > 2000);
     QVERIFY(c.session().state().map->knownCount() > 1000);
+  }
+
+  // On a terrain family in place of the course (ambler-gs --family), a
+  // walk maps that ground: the map of a rock field's first scan matches the
+  // rock field's heights, not those of the obstacle course of its seed.
+  void aWalkOnARockFieldMapsTheRockField() {
+    QTemporaryDir logs;
+    ambler::gs::StationOptions o = options(logs.path());
+    o.seed = 3;
+    o.simulated_ground.family = ambler::sim::TerrainFamily::kRockField;
+    GroundStation station(o);
+    QVERIFY2(station.window().statusText().contains("rock field 3"),
+             qPrintable(station.window().statusText()));
+    station.startWalk(1);
+    QTRY_VERIFY_WITH_TIMEOUT(station.session() && station.session()->pending().has_value(), 30000);
+    const auto map = station.session()->state().map;
+    QVERIFY(map && map->knownCount() > 1000);
+    const ambler::sim::ProceduralTerrain rocks(
+        ambler::sim::makeFamilyTerrain(ambler::sim::TerrainFamily::kRockField, 3));
+    const ambler::sim::CourseScene course(3, o.scanner);
+    auto rmsAgainst = [&](const ambler::sim::Terrain& truth) {
+      double sum = 0.0;
+      int n = 0;
+      for (int r = 0; r < map->grid().rows; ++r)
+        for (int c = 0; c < map->grid().cols; ++c) {
+          if (!map->hasHeight(r, c)) continue;
+          const Eigen::Vector2d p = map->grid().cellCenter(r, c);
+          sum += std::pow(map->elevation(r, c) - truth.height(p.x(), p.y()), 2);
+          ++n;
+        }
+      return std::sqrt(sum / n);
+    };
+    const double on_rocks = rmsAgainst(rocks), on_course = rmsAgainst(course.terrain());
+    QVERIFY2(on_rocks < 0.05 && on_course > 2 * on_rocks,
+             qPrintable(QString("rms %1 m against the rocks, %2 m against the course")
+                            .arg(on_rocks)
+                            .arg(on_course)));
   }
 
   void editingTheFootholdOnTheMapRechecksTheInterlocks() {

@@ -1,0 +1,47 @@
+#include "app/gs/SimulatedGround.h"
+
+#include <memory>
+
+namespace ambler::gs {
+
+sim::CourseScene SimulatedGround::scene(std::uint64_t seed, const sim::ScannerModel& model) const {
+  if (dtm)
+    return sim::CourseScene(std::make_unique<sim::HeightfieldTerrain>(sim::loadDtm(*dtm)), model);
+  if (family != sim::TerrainFamily::kCourse)
+    return sim::CourseScene(sim::makeFamilyTerrain(family, seed), model);
+  return sim::CourseScene(seed, model);
+}
+
+void SimulatedGround::applyTo(std::uint64_t seed, rover::SimulatedRoverOptions& options) const {
+  options.course.seed = seed;
+  options.dtm = dtm;
+  if (!dtm && family != sim::TerrainFamily::kCourse)
+    options.terrain = sim::makeFamilyTerrain(family, seed);
+}
+
+std::string SimulatedGround::name(std::uint64_t seed) const {
+  if (dtm) return "terrain model " + dtm->path.filename().string();
+  const char* kind = "course";
+  switch (family) {
+    case sim::TerrainFamily::kCourse:
+      break;
+    case sim::TerrainFamily::kRockField:
+      kind = "rock field";
+      break;
+    case sim::TerrainFamily::kCraterField:
+      kind = "crater field";
+      break;
+    case sim::TerrainFamily::kRoughGround:
+      kind = "rough ground";
+      break;
+    case sim::TerrainFamily::kNegativeObstacles:
+      kind = "negative obstacles";
+      break;
+    case sim::TerrainFamily::kSlope:
+      kind = "slope";
+      break;
+  }
+  return std::string(kind) + " " + std::to_string(seed);
+}
+
+}  // namespace ambler::gs
