@@ -66,7 +66,7 @@ ConnectDialog::ConnectDialog(const ConnectChoice& initial, QWidget* parent)
     box->setEnabled(false);
   };
   auto* sim = new QFormLayout;
-  sim->addRow(tr("Course seed"), seed_);
+  sim->addRow(tr("Ground seed"), seed_);
   addSource(ConnectChoice::Source::kSimulator, tr("Built-in simulator (in this process)"), sim);
   auto* dds = new QFormLayout;
   dds->addRow(tr("DDS domain"), domain_);

@@ -72,7 +72,7 @@ MainWindow::MainWindow(QWidget* parent)
   toolbar->setObjectName("scan-toolbar");
   toolbar->addWidget(new QLabel(tr("Terrain seed: ")));
   seed_box_->setRange(1, 999999);
-  seed_box_->setToolTip(tr("Seed of the simulated obstacle course"));
+  seed_box_->setToolTip(tr("Seed of the simulated ground (the obstacle course or --family)"));
   toolbar->addWidget(seed_box_);
   scan_action_->setShortcut(Qt::Key_F5);
   scan_action_->setToolTip(tr("Acquire a new range image (F5)"));
