@@ -31,9 +31,13 @@ RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, s
   RoverConnection c;
   c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;
-  ground.applyTo(seed, options);
   options.operators = {c.key};
-  c.open = [config, options] { return std::make_unique<rover::InProcessLink>(config, options); };
+  // The ground is drawn where the link opens, on the session's thread.
+  c.open = [config, options, ground, seed] {
+    rover::SimulatedRoverOptions on_ground = options;
+    ground.applyTo(seed, on_ground);
+    return std::make_unique<rover::InProcessLink>(config, on_ground);
+  };
   const std::string where = ground.name(seed);
   c.description = "built-in simulator on " + where;
   c.mission = "ambler-gs walk on " + where;
