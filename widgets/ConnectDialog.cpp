@@ -1,6 +1,7 @@
 #include "widgets/ConnectDialog.h"
 
 #include <QButtonGroup>
+#include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -38,6 +39,7 @@ ConnectDialog::ConnectDialog(const ConnectChoice& initial, QWidget* parent)
     : QDialog(parent),
       sources_(new QButtonGroup(this)),
       seed_(new QSpinBox),
+      family_(new QComboBox),
       domain_(new QSpinBox),
       rover_id_(new QSpinBox),
       key_file_(new QLineEdit),
@@ -46,6 +48,12 @@ ConnectDialog::ConnectDialog(const ConnectChoice& initial, QWidget* parent)
       buttons_(new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel)) {
   setWindowTitle(tr("Connect"));
   seed_->setRange(1, 999999);
+  for (const auto f : sim::kTerrainFamilies) {
+    QString title =
+        QString::fromUtf8(sim::familyTitle(f).data(), qsizetype(sim::familyTitle(f).size()));
+    title[0] = title[0].toUpper();
+    family_->addItem(f == sim::TerrainFamily::kCourse ? tr("Obstacle course") : title, int(f));
+  }
   domain_->setRange(0, 232);  // DDS domain ids over UDP
   rover_id_->setRange(1, 65535);
   key_file_->setPlaceholderText(tr("operator key file (name and 64 hex digits)"));
@@ -66,6 +74,7 @@ ConnectDialog::ConnectDialog(const ConnectChoice& initial, QWidget* parent)
     box->setEnabled(false);
   };
   auto* sim = new QFormLayout;
+  sim->addRow(tr("Ground"), family_);
   sim->addRow(tr("Ground seed"), seed_);
   addSource(ConnectChoice::Source::kSimulator, tr("Built-in simulator (in this process)"), sim);
   auto* dds = new QFormLayout;
@@ -92,6 +101,8 @@ ConnectChoice ConnectDialog::choice() const {
   ConnectChoice c;
   c.source = ConnectChoice::Source(sources_->checkedId());
   c.seed = quint64(seed_->value());
+  c.family = sim::TerrainFamily(family_->currentData().toInt());
+  c.on_terrain_model = on_terrain_model_;
   c.domain = domain_->value();
   c.rover_id = quint32(rover_id_->value());
   c.key_file = key_file_->text().trimmed();
@@ -102,6 +113,10 @@ ConnectChoice ConnectDialog::choice() const {
 void ConnectDialog::setChoice(const ConnectChoice& c) {
   sources_->button(int(c.source))->setChecked(true);
   seed_->setValue(int(c.seed));
+  family_->setCurrentIndex(family_->findData(int(c.family)));
+  on_terrain_model_ = c.on_terrain_model;
+  family_->setEnabled(!c.on_terrain_model);
+  family_->setToolTip(c.on_terrain_model ? tr("Launched on a terrain model (--dtm)") : QString());
   domain_->setValue(c.domain);
   rover_id_->setValue(int(c.rover_id));
   key_file_->setText(c.key_file);

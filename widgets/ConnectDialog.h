@@ -1,9 +1,12 @@
 #pragma once
 
 #include <QDialog>
+
 #include "core/Refusal.h"
+#include "sim/TerrainFamilies.h"
 
 class QButtonGroup;
+class QComboBox;
 class QDialogButtonBox;
 class QLabel;
 class QLineEdit;
@@ -16,7 +19,9 @@ namespace ambler::widgets {
 struct ConnectChoice {
   enum class Source { kSimulator, kDds, kLog };
   Source source = Source::kSimulator;
-  quint64 seed = 1;      // simulator: the obstacle course
+  quint64 seed = 1;                                         // simulator: its ground's seed
+  sim::TerrainFamily family = sim::TerrainFamily::kCourse;  // simulator: its ground
+  bool on_terrain_model = false;  // simulator: launched on a DTM, no family to choose
   int domain = 0;        // DDS domain id
   quint32 rover_id = 1;  // DDS: which rover
   QString key_file;      // DDS: this operator's key (docs/link.md)
@@ -41,6 +46,8 @@ class ConnectDialog : public QDialog {
 
   QButtonGroup* sources_;
   QSpinBox* seed_;
+  QComboBox* family_;
+  bool on_terrain_model_ = false;
   QSpinBox* domain_;
   QSpinBox* rover_id_;
   QLineEdit* key_file_;

@@ -72,8 +72,8 @@ std::optional<widgets::RoverDisplay> drawn(const std::optional<gait::Stance>& st
 GroundStation::GroundStation(StationOptions options, QObject* parent)
     : QObject(parent),
       options_(std::move(options)),
-      simulator_(options_.scanner, options_.simulated_ground) {
-  choice_.seed = options_.seed;
+      simulator_(options_.scanner, options_.simulated_ground),
+      choice_(launchedSimulator()) {
   wireWindow();
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
     window_.terrainView()->setMeshOverlay(mesh_.outlines(), mesh_.pathPoints());
@@ -92,6 +92,20 @@ GroundStation::GroundStation(StationOptions options, QObject* parent)
   report(connectTo(choice_));
 }
 
+widgets::ConnectChoice GroundStation::launchedSimulator() const {
+  widgets::ConnectChoice c;
+  c.seed = options_.seed;
+  c.family = options_.simulated_ground.family;
+  c.on_terrain_model = options_.simulated_ground.dtm.has_value();
+  return c;
+}
+
+SimulatedGround GroundStation::groundOf(const widgets::ConnectChoice& choice) const {
+  SimulatedGround ground = options_.simulated_ground;
+  ground.family = choice.family;
+  return ground;
+}
+
 bool GroundStation::report(const Refusal& refusal) {
   if (refusal.refused()) window_.showError(QString::fromStdString(refusal.why()));
   return refusal.refused();
@@ -104,8 +118,8 @@ GroundStation::~GroundStation() {
 
 void GroundStation::wireWindow() {
   connect(&window_, &widgets::MainWindow::scanRequested, &simulator_, [this](quint64 s) {
-    window_.setBusy(tr("Scanning the simulated %1…")
-                        .arg(QString::fromStdString(options_.simulated_ground.name(s))));
+    window_.setBusy(
+        tr("Scanning the simulated %1…").arg(QString::fromStdString(groundOf(choice_).name(s))));
     simulator_.requestScan(s);
   });
   connect(&simulator_, &SimulatorSource::scanReady, &window_,
@@ -191,19 +205,19 @@ Refusal GroundStation::connectTo(const widgets::ConnectChoice& choice) {
   // The built-in simulator starts with the first walk, so that a launch
   // without one leaves no empty log behind; a rover is connected now.
   if (choice.source == widgets::ConnectChoice::Source::kDds) return openSession();
+  simulator_.setGround(groundOf(choice));
   window_.setStatus(tr("Built-in simulator on %1: start a walk to connect")
-                        .arg(QString::fromStdString(options_.simulated_ground.name(choice.seed))));
+                        .arg(QString::fromStdString(groundOf(choice).name(choice.seed))));
   return {};
 }
 
 Refusal GroundStation::openSession() {
   try {
-    RoverConnection rover =
-        choice_.source == widgets::ConnectChoice::Source::kDds
-            ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
-                            choice_.key_file.toStdString())
-            : simulatorConnection(options_.simulator, choice_.seed, options_.operator_id,
-                                  options_.simulated_ground);
+    RoverConnection rover = choice_.source == widgets::ConnectChoice::Source::kDds
+                                ? ddsConnection(std::uint32_t(choice_.domain), choice_.rover_id,
+                                                choice_.key_file.toStdString())
+                                : simulatorConnection(options_.simulator, choice_.seed,
+                                                      options_.operator_id, groundOf(choice_));
     session_ = std::make_unique<WalkSession>(options_.ground, std::move(rover),
                                              newLogPath().toStdString());
   } catch (const std::exception& e) {
@@ -249,9 +263,9 @@ Refusal GroundStation::openSession() {
 }
 
 void GroundStation::startWalk(int steps, const gait::Heading& heading) {
-  if (timeline_ && report(connectTo(choice_.source == widgets::ConnectChoice::Source::kLog
-                                        ? widgets::ConnectChoice{}
-                                        : choice_)))
+  if (timeline_ &&
+      report(connectTo(choice_.source == widgets::ConnectChoice::Source::kLog ? launchedSimulator()
+                                                                              : choice_)))
     return;
   if (!session_ && report(openSession())) return;
   auto* bar = window_.walkCommandBar();

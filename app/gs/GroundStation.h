@@ -69,6 +69,10 @@ class GroundStation : public QObject {
  private:
   void wireWindow();
   Refusal openSession();  // over choice_
+  // The built-in simulator on the ground and seed of the command line.
+  widgets::ConnectChoice launchedSimulator() const;
+  // The simulator's ground that `choice` picks.
+  SimulatedGround groundOf(const widgets::ConnectChoice& choice) const;
   // Shows a refusal to the operator; whether there was one.
   bool report(const Refusal& refusal);
   void showSession();

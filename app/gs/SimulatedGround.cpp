@@ -21,27 +21,7 @@ void SimulatedGround::applyTo(std::uint64_t seed, rover::SimulatedRoverOptions& 
 
 std::string SimulatedGround::name(std::uint64_t seed) const {
   if (dtm) return "terrain model " + dtm->path.filename().string();
-  const char* kind = "course";
-  switch (family) {
-    case sim::TerrainFamily::kCourse:
-      break;
-    case sim::TerrainFamily::kRockField:
-      kind = "rock field";
-      break;
-    case sim::TerrainFamily::kCraterField:
-      kind = "crater field";
-      break;
-    case sim::TerrainFamily::kRoughGround:
-      kind = "rough ground";
-      break;
-    case sim::TerrainFamily::kNegativeObstacles:
-      kind = "negative obstacles";
-      break;
-    case sim::TerrainFamily::kSlope:
-      kind = "slope";
-      break;
-  }
-  return std::string(kind) + " " + std::to_string(seed);
+  return std::string(sim::familyTitle(family)) + " " + std::to_string(seed);
 }
 
 }  // namespace ambler::gs

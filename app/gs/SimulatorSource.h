@@ -22,6 +22,8 @@ class SimulatorSource : public QObject {
                            QObject* parent = nullptr);
 
   void requestScan(quint64 seed);
+  // Scans from now on are of `ground`.
+  void setGround(SimulatedGround ground) { ground_ = std::move(ground); }
 
  signals:
   void scanReady(const ambler::widgets::ScanDisplay& display);

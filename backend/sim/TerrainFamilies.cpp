@@ -75,6 +75,24 @@ std::string_view familyName(TerrainFamily family) {
   return "?";
 }
 
+std::string_view familyTitle(TerrainFamily family) {
+  switch (family) {
+    case TerrainFamily::kCourse:
+      return "course";
+    case TerrainFamily::kRockField:
+      return "rock field";
+    case TerrainFamily::kCraterField:
+      return "crater field";
+    case TerrainFamily::kRoughGround:
+      return "rough ground";
+    case TerrainFamily::kNegativeObstacles:
+      return "negative obstacles";
+    case TerrainFamily::kSlope:
+      return "slope";
+  }
+  return "?";
+}
+
 std::optional<TerrainFamily> parseFamily(std::string_view name) {
   for (const auto f : kTerrainFamilies)
     if (familyName(f) == name) return f;

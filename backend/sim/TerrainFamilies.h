@@ -31,6 +31,9 @@ inline constexpr Box2 kFamilyExtent{-20.0, -10.0, 20.0, 50.0};
 
 // "course", "rocks", "craters", "rough", "negative", "slope".
 std::string_view familyName(TerrainFamily family);
+// What an operator reads: "course", "rock field", "crater field", "rough
+// ground", "negative obstacles", "slope".
+std::string_view familyTitle(TerrainFamily family);
 std::optional<TerrainFamily> parseFamily(std::string_view name);
 
 // Rocks whose sizes follow the Golombek & Rapp (1997) model for Mars: the

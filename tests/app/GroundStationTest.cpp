@@ -40,6 +40,7 @@
 #include "tests/app/TestStation.h"
 #include "tests/widgets/Hover.h"
 #include "widgets/CommandLogView.h"
+#include "widgets/ConnectDialog.h"
 #include "widgets/DangerPanel.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
@@ -109,6 +110,36 @@ QString screenshot(QWidget* widget, const QString& name) {
   if (colourCount(shot) <= 20) return name + " looks blank";
   if (!dir.mkpath(".") || !shot.save(dir.filePath(name))) return "cannot write " + name;
   return {};
+}
+
+// Starts a one-step walk on `station`; whether the map of its first scan
+// is of `family`'s ground of `seed` (rms under 5 cm) rather than of the
+// obstacle course of that seed (more than twice that rms).
+bool mapsTheFamily(GroundStation& station, ambler::sim::TerrainFamily family, std::uint64_t seed,
+                   const ambler::sim::ScannerModel& scanner) {
+  station.startWalk(1);
+  if (!QTest::qWaitFor(
+          [&] { return station.session() && station.session()->pending().has_value(); }, 30000))
+    return false;
+  const auto map = station.session()->state().map;
+  if (!map || map->knownCount() < 1000) return false;
+  auto rmsAgainst = [&](const ambler::sim::Terrain& truth) {
+    double sum = 0.0;
+    int n = 0;
+    for (int r = 0; r < map->grid().rows; ++r)
+      for (int c = 0; c < map->grid().cols; ++c) {
+        if (!map->hasHeight(r, c)) continue;
+        const Eigen::Vector2d p = map->grid().cellCenter(r, c);
+        sum += std::pow(map->elevation(r, c) - truth.height(p.x(), p.y()), 2);
+        ++n;
+      }
+    return std::sqrt(sum / n);
+  };
+  const double on_family =
+      rmsAgainst(ambler::sim::ProceduralTerrain(ambler::sim::makeFamilyTerrain(family, seed)));
+  const double on_course = rmsAgainst(ambler::sim::CourseScene(seed, scanner).terrain());
+  qInfo("rms %.4f m against the family's ground, %.4f m against the course", on_family, on_course);
+  return on_family < 0.05 && on_course > 2 * on_family;
 }
 
 }  // namespace
@@ -247,41 +278,36 @@ class GroundStationTest : public QObject {
     QVERIFY(c.session().state().map->knownCount() > 1000);
   }
 
-  // On a terrain family in place of the course (ambler-gs --family), a
-  // walk maps that ground: the map of a rock field's first scan matches the
-  // rock field's heights, not those of the obstacle course of its seed.
-  void aWalkOnARockFieldMapsTheRockField() {
+  // On a terrain family in place of the course, chosen at launch
+  // (ambler-gs --family) or in the Connect dialog, a walk maps that ground:
+  // the map of its first scan matches the family's heights, not those of
+  // the obstacle course of the same seed.
+  void aWalkOnATerrainFamilyMapsThatGround() {
+    using ambler::sim::TerrainFamily;
     QTemporaryDir logs;
     ambler::gs::StationOptions o = options(logs.path());
     o.seed = 3;
-    o.simulated_ground.family = ambler::sim::TerrainFamily::kRockField;
+    o.simulated_ground.family = TerrainFamily::kRockField;
     GroundStation station(o);
     QVERIFY2(station.window().statusText().contains("rock field 3"),
              qPrintable(station.window().statusText()));
-    station.startWalk(1);
-    QTRY_VERIFY_WITH_TIMEOUT(station.session() && station.session()->pending().has_value(), 30000);
-    const auto map = station.session()->state().map;
-    QVERIFY(map && map->knownCount() > 1000);
-    const ambler::sim::ProceduralTerrain rocks(
-        ambler::sim::makeFamilyTerrain(ambler::sim::TerrainFamily::kRockField, 3));
-    const ambler::sim::CourseScene course(3, o.scanner);
-    auto rmsAgainst = [&](const ambler::sim::Terrain& truth) {
-      double sum = 0.0;
-      int n = 0;
-      for (int r = 0; r < map->grid().rows; ++r)
-        for (int c = 0; c < map->grid().cols; ++c) {
-          if (!map->hasHeight(r, c)) continue;
-          const Eigen::Vector2d p = map->grid().cellCenter(r, c);
-          sum += std::pow(map->elevation(r, c) - truth.height(p.x(), p.y()), 2);
-          ++n;
-        }
-      return std::sqrt(sum / n);
-    };
-    const double on_rocks = rmsAgainst(rocks), on_course = rmsAgainst(course.terrain());
-    QVERIFY2(on_rocks < 0.05 && on_course > 2 * on_rocks,
-             qPrintable(QString("rms %1 m against the rocks, %2 m against the course")
-                            .arg(on_rocks)
-                            .arg(on_course)));
+    QVERIFY(mapsTheFamily(station, TerrainFamily::kRockField, 3, o.scanner));
+
+    ambler::widgets::ConnectDialog dialog(ambler::widgets::ConnectChoice{}, &station.window());
+    auto* family = dialog.findChild<QComboBox*>();
+    QVERIFY(family && family->isEnabled());
+    family->setCurrentIndex(family->findText("Crater field"));
+    QCOMPARE(dialog.choice().family, TerrainFamily::kCraterField);
+    QVERIFY(!station.connectTo(dialog.choice()).refused());
+    QVERIFY2(station.window().statusText().contains("crater field 1"),
+             qPrintable(station.window().statusText()));
+    QVERIFY(mapsTheFamily(station, TerrainFamily::kCraterField, 1, o.scanner));
+
+    // A station launched on a terrain model has no family to choose.
+    ambler::widgets::ConnectChoice on_model;
+    on_model.on_terrain_model = true;
+    dialog.setChoice(on_model);
+    QVERIFY(!family->isEnabled());
   }
 
   void editingTheFootholdOnTheMapRechecksTheInterlocks() {
