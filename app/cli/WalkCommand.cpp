@@ -9,7 +9,6 @@
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
 #include "core/Resources.h"
-#include "sim/TerrainFamilies.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::cli {
@@ -133,29 +132,9 @@ walk::WalkSetup readConfig(const WalkArgs& a) {
                              config_path(a.scanner_config, "config/rover-scanner.json"));
 }
 
-walk::WalkOptions onCourse(const std::string& course, std::uint64_t seed, int steps) {
-  if (course == "traverse") return walk::onLongTraverse(seed, steps);
-  walk::WalkOptions o;
-  o.course.seed = seed;
-  o.steps = steps;
-  if (course == "obstacle") return o;
-  // The rock fields at the top of the abundance the issue asks a walk to
-  // cross; the crater fields as their family draws them. Both as long as
-  // the traverse, and mapped as far, so that walks of 100 steps and more
-  // end on the field, not at the map's far edge.
-  const walk::WalkOptions traverse = walk::onLongTraverse(seed, steps);
-  const Box2& field = traverse.course.extent;
-  o.map_extent = traverse.map_extent;
-  if (course == "rocks20")
-    o.terrain = sim::makeRockField({.seed = seed, .extent = field, .abundance = 0.2});
-  if (course == "craters")
-    o.terrain = sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, seed, field);
-  return o;
-}
-
 void runWalk(const WalkArgs& a) {
   const auto config = readConfig(a);
-  walk::WalkOptions o = onCourse(a.course, std::uint64_t(a.seed), a.steps);
+  walk::WalkOptions o = walk::onCourse(a.course, std::uint64_t(a.seed), a.steps);
   o.concurrent = !a.sequential;
   o.time_scale = a.time_scale;
   o.register_scans = !a.no_registration;
@@ -229,7 +208,7 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
   double total_m = 0.0, moving_s = 0.0;
   nlohmann::json walks = nlohmann::json::array();
   for (const auto seed : a.seeds) {
-    const auto r = walk::runWalk(config, onCourse(a.course, seed, a.steps));
+    const auto r = walk::runWalk(config, walk::onCourse(a.course, seed, a.steps));
     walks.push_back(walkJson(seed, r));
     distance.push_back(r.distance_m);
     margin.push_back(r.min_stability_margin_m);
@@ -247,7 +226,7 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
   }
   for (int k = 0; k < a.repetitions && !a.seeds.empty(); ++k) {
     const auto seed = a.seeds[std::size_t(k) % a.seeds.size()];
-    const auto c = compareModes(config, onCourse(a.course, seed, a.steps));
+    const auto c = compareModes(config, walk::onCourse(a.course, seed, a.steps));
     saving.push_back(wallSavingPct(c));
   }
   const auto spread = [](std::vector<double> v) -> nlohmann::json {

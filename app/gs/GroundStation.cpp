@@ -100,8 +100,8 @@ widgets::ConnectChoice GroundStation::launchedSimulator() const {
   return c;
 }
 
-SimulatedGround GroundStation::groundOf(const widgets::ConnectChoice& choice) const {
-  SimulatedGround ground = options_.simulated_ground;
+rover::SimulatedGround GroundStation::groundOf(const widgets::ConnectChoice& choice) const {
+  rover::SimulatedGround ground = options_.simulated_ground;
   ground.family = choice.family;
   return ground;
 }

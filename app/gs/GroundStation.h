@@ -25,7 +25,7 @@ struct StationOptions {
   sim::ScannerModel scanner;              // for the range-image view's scans
   gait::GaitContext ground;               // what the station plans with
   rover::SimulatedRoverConfig simulator;  // the built-in simulator's rover
-  SimulatedGround simulated_ground;       // the built-in simulator's: the course by default
+  rover::SimulatedGround simulated_ground;  // the built-in simulator's: the course by default
 };
 
 // The ground station's wiring (QGroundControl style: the views never know
@@ -72,7 +72,7 @@ class GroundStation : public QObject {
   // The built-in simulator on the ground and seed of the command line.
   widgets::ConnectChoice launchedSimulator() const;
   // The simulator's ground that `choice` picks.
-  SimulatedGround groundOf(const widgets::ConnectChoice& choice) const;
+  rover::SimulatedGround groundOf(const widgets::ConnectChoice& choice) const;
   // Shows a refusal to the operator; whether there was one.
   bool report(const Refusal& refusal);
   void showSession();

@@ -7,7 +7,8 @@
 
 namespace ambler::gs {
 
-SimulatorSource::SimulatorSource(sim::ScannerModel model, SimulatedGround ground, QObject* parent)
+SimulatorSource::SimulatorSource(sim::ScannerModel model, rover::SimulatedGround ground,
+                                 QObject* parent)
     : QObject(parent), model_(std::move(model)), ground_(std::move(ground)) {
   connect(&watcher_, &QFutureWatcher<Result>::finished, this, [this] {
     const Result result = watcher_.result();
@@ -25,7 +26,8 @@ void SimulatorSource::requestScan(quint64 seed) {
 }
 
 SimulatorSource::Result SimulatorSource::simulate(const sim::ScannerModel& model,
-                                                  const SimulatedGround& ground, quint64 seed) {
+                                                  const rover::SimulatedGround& ground,
+                                                  quint64 seed) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const sim::CourseScene scene = ground.scene(seed, model);

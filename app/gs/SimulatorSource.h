@@ -4,7 +4,7 @@
 #include <QObject>
 #include <optional>
 
-#include "app/gs/SimulatedGround.h"
+#include "rover/SimulatedGround.h"
 #include "sim/ScannerSim.h"
 #include "widgets/ScanDisplay.h"
 
@@ -18,12 +18,12 @@ class SimulatorSource : public QObject {
 
  public:
   // On `ground`, drawn from the requested seed.
-  explicit SimulatorSource(sim::ScannerModel model, SimulatedGround ground = {},
+  explicit SimulatorSource(sim::ScannerModel model, rover::SimulatedGround ground = {},
                            QObject* parent = nullptr);
 
   void requestScan(quint64 seed);
   // Scans from now on are of `ground`.
-  void setGround(SimulatedGround ground) { ground_ = std::move(ground); }
+  void setGround(rover::SimulatedGround ground) { ground_ = std::move(ground); }
 
  signals:
   void scanReady(const ambler::widgets::ScanDisplay& display);
@@ -34,11 +34,11 @@ class SimulatorSource : public QObject {
     std::optional<widgets::ScanDisplay> display;
     QString error;
   };
-  static Result simulate(const sim::ScannerModel& model, const SimulatedGround& ground,
+  static Result simulate(const sim::ScannerModel& model, const rover::SimulatedGround& ground,
                          quint64 seed);
 
   sim::ScannerModel model_;
-  SimulatedGround ground_;
+  rover::SimulatedGround ground_;
   QFutureWatcher<Result> watcher_;
 };
 

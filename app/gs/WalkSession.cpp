@@ -27,7 +27,8 @@ constexpr double kTelemetryPeriodS = 0.25;
 }  // namespace
 
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id, const SimulatedGround& ground) {
+                                    const QString& operator_id,
+                                    const rover::SimulatedGround& ground) {
   RoverConnection c;
   c.key = sessionKey(operator_id);
   rover::SimulatedRoverOptions options;

@@ -7,10 +7,10 @@
 #include <functional>
 #include <memory>
 
-#include "app/gs/SimulatedGround.h"
 #include "app/gs/WalkState.h"
 #include "executive/WalkExecutive.h"
 #include "link/Signing.h"
+#include "rover/SimulatedGround.h"
 #include "rover/SimulatedRover.h"
 #include "sampling/GraspPlan.h"
 
@@ -33,7 +33,8 @@ struct RoverConnection {
 // seed draws only the noise), commanded by `operator_id` with a key made
 // for this session.
 RoverConnection simulatorConnection(const rover::SimulatedRoverConfig& config, std::uint64_t seed,
-                                    const QString& operator_id, const SimulatedGround& ground = {});
+                                    const QString& operator_id,
+                                    const rover::SimulatedGround& ground = {});
 
 // What the operator asked for that may be refused.
 enum class OperatorAction {

@@ -9,17 +9,25 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "core/Memory.h"
 #include "link/dds/DdsMessages.h"
 #include "rover/RoverLoop.h"
-#include "sim/TerrainFamilies.h"
+#include "rover/SimulatedGround.h"
 
 namespace {
 
 std::atomic<bool> g_stop{false};
 
 void onSignal(int) { g_stop = true; }
+
+std::vector<std::string> familyNames() {
+  std::vector<std::string> names;
+  for (const auto f : ambler::sim::kTerrainFamilies) names.emplace_back(ambler::sim::familyName(f));
+  return names;
+}
 
 struct Args {
   std::uint32_t domain = 0;
@@ -44,18 +52,17 @@ void run(const Args& a) {
   const auto config = rover::readInstalledSimulatedRoverConfig();
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
-  options.course.seed = a.seed;
   options.link_timeout_s = a.link_timeout_s;
   options.started_s = started_s;
-  if (const auto family = sim::parseFamily(a.family); family != sim::TerrainFamily::kCourse)
-    options.terrain = sim::makeFamilyTerrain(*family, a.seed);
+  rover::SimulatedGround ground;
+  ground.family = *sim::parseFamily(a.family);  // checked against the families' names
   if (!a.dtm.empty()) {
-    sim::DtmSource dtm{a.dtm,
-                       {.width = a.dtm_size, .height = a.dtm_size, .resolution = a.dtm_resolution}};
+    ground.dtm = sim::DtmSource{
+        a.dtm, {.width = a.dtm_size, .height = a.dtm_size, .resolution = a.dtm_resolution}};
     if (a.dtm_centre.size() == 2)
-      dtm.window.centre = Eigen::Vector2d(a.dtm_centre[0], a.dtm_centre[1]);
-    options.dtm = dtm;
+      ground.dtm->window.centre = Eigen::Vector2d(a.dtm_centre[0], a.dtm_centre[1]);
   }
+  ground.applyTo(a.seed, options);
   if (!a.keys.empty()) options.operators = link::readOperatorKeys(a.keys);
   rover::SimulatedRover rover(config, options);
   link::dds::RoverEndpoint endpoint(a.domain, a.rover_id);
@@ -134,7 +141,7 @@ int main(int argc, char** argv) {
   auto* family =
       app.add_option("--family", a.family,
                      "walk on a terrain family drawn from the seed, as the evaluations draw it")
-          ->check(CLI::IsMember({"course", "rocks", "craters", "rough", "negative", "slope"}))
+          ->check(CLI::IsMember(familyNames()))
           ->capture_default_str();
   app.add_option("--dtm", a.dtm,
                  "walk on a real terrain model instead of the course: any DTM GDAL reads "

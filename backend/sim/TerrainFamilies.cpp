@@ -1,6 +1,7 @@
 #include "sim/TerrainFamilies.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "sim/ObstacleCourse.h"
@@ -55,42 +56,32 @@ double sampleDiameter(const DiameterTable& t, double u) {
   return t.d[i - 1] + f * (t.d[i] - t.d[i - 1]);
 }
 
+// Each family's name on command lines and in JSON, and what an operator
+// reads, in kTerrainFamilies' order.
+struct FamilyNames {
+  std::string_view name, title;
+};
+constexpr std::array<FamilyNames, kTerrainFamilies.size()> kFamilyNames{
+    {{"course", "course"},
+     {"rocks", "rock field"},
+     {"craters", "crater field"},
+     {"rough", "rough ground"},
+     {"negative", "negative obstacles"},
+     {"slope", "slope"}}};
+static_assert(
+    [] {
+      for (std::size_t i = 0; i < kTerrainFamilies.size(); ++i)
+        if (std::size_t(kTerrainFamilies[i]) != i) return false;
+      return true;
+    }(),
+    "kFamilyNames is indexed by the family's value");
+
 }  // namespace
 
-std::string_view familyName(TerrainFamily family) {
-  switch (family) {
-    case TerrainFamily::kCourse:
-      return "course";
-    case TerrainFamily::kRockField:
-      return "rocks";
-    case TerrainFamily::kCraterField:
-      return "craters";
-    case TerrainFamily::kRoughGround:
-      return "rough";
-    case TerrainFamily::kNegativeObstacles:
-      return "negative";
-    case TerrainFamily::kSlope:
-      return "slope";
-  }
-  return "?";
-}
+std::string_view familyName(TerrainFamily family) { return kFamilyNames[std::size_t(family)].name; }
 
 std::string_view familyTitle(TerrainFamily family) {
-  switch (family) {
-    case TerrainFamily::kCourse:
-      return "course";
-    case TerrainFamily::kRockField:
-      return "rock field";
-    case TerrainFamily::kCraterField:
-      return "crater field";
-    case TerrainFamily::kRoughGround:
-      return "rough ground";
-    case TerrainFamily::kNegativeObstacles:
-      return "negative obstacles";
-    case TerrainFamily::kSlope:
-      return "slope";
-  }
-  return "?";
+  return kFamilyNames[std::size_t(family)].title;
 }
 
 std::optional<TerrainFamily> parseFamily(std::string_view name) {

@@ -7,11 +7,14 @@
 #include <cmath>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "core/Resources.h"
 #include "executive/WalkExecutive.h"
 #include "gait/RoverConfig.h"
 #include "rover/InProcessLink.h"
+#include "sim/TerrainFamilies.h"
 
 namespace ambler::walk {
 
@@ -227,6 +230,29 @@ WalkOptions onLongTraverse(std::uint64_t seed, int steps) {
   o.course = sim::longTraverse(seed);
   o.steps = steps;
   o.map_extent = {-10.0, -8.0, 10.0, o.course.extent.y_max - 5.0};
+  return o;
+}
+
+WalkOptions onCourse(std::string_view course, std::uint64_t seed, int steps) {
+  if (course == "traverse") return onLongTraverse(seed, steps);
+  WalkOptions o;
+  o.course.seed = seed;
+  o.steps = steps;
+  if (course == "obstacle") return o;
+  // The rock fields at the top of the abundance the issue asks a walk to
+  // cross; the crater fields as their family draws them. Both as long as
+  // the traverse, and mapped as far, so that walks of 100 steps and more
+  // end on the field, not at the map's far edge.
+  const WalkOptions traverse = onLongTraverse(seed, steps);
+  const Box2& field = traverse.course.extent;
+  o.map_extent = traverse.map_extent;
+  if (course == "rocks20")
+    o.terrain = sim::makeRockField({.seed = seed, .extent = field, .abundance = 0.2});
+  else if (course == "craters")
+    o.terrain = sim::makeFamilyTerrain(sim::TerrainFamily::kCraterField, seed, field);
+  else
+    throw std::invalid_argument("no walk course '" + std::string(course) +
+                                "': obstacle, traverse, rocks20 or craters");
   return o;
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "executive/WalkExecutive.h"
@@ -50,6 +51,12 @@ struct WalkOptions {
 // The options of a walk on sim::longTraverse(seed): the map reaches to
 // the traverse's far end.
 WalkOptions onLongTraverse(std::uint64_t seed, int steps);
+// The options of a walk on one of `ambler-cli walk`'s courses: "obstacle"
+// (the cmu-1990 course), "traverse" (onLongTraverse), "rocks20" (a
+// Golombek-Rapp rock field of 20 % abundance) or "craters" (a crater
+// field), the last two on the traverse's field and map; std::invalid_argument
+// for another name.
+WalkOptions onCourse(std::string_view course, std::uint64_t seed, int steps);
 
 struct WalkStep {
   int leg = -1;

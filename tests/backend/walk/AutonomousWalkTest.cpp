@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/TerrainFamilies.h"
 #include "walk/AutonomousWalk.h"
 
 namespace ambler::walk {
@@ -100,9 +99,7 @@ TEST(Walk, SingleFootSlipsAreCaughtByDeadReckoning) {
 // 0.3 m of each other, come before the second step: each taught the map,
 // and the fourth plan finds ground the foot reaches.
 TEST(Walk, EarlyContactsAtNewFootholdsDoNotStopTheWalk) {
-  WalkOptions o = onLongTraverse(6, 5);
-  o.terrain = sim::makeRockField({.seed = 6, .extent = o.course.extent, .abundance = 0.2});
-  const WalkResult r = runWalk(config(), o);
+  const WalkResult r = runWalk(config(), onCourse("rocks20", 6, 5));
   EXPECT_EQ(r.steps, 5) << r.stopped;
   EXPECT_TRUE(std::ranges::any_of(r.log, [](const WalkStep& s) {
     return s.event.find("(early contact), replanned") != std::string::npos;

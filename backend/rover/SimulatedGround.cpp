@@ -1,8 +1,8 @@
-#include "app/gs/SimulatedGround.h"
+#include "rover/SimulatedGround.h"
 
 #include <memory>
 
-namespace ambler::gs {
+namespace ambler::rover {
 
 sim::CourseScene SimulatedGround::scene(std::uint64_t seed, const sim::ScannerModel& model) const {
   if (dtm)
@@ -12,7 +12,7 @@ sim::CourseScene SimulatedGround::scene(std::uint64_t seed, const sim::ScannerMo
   return sim::CourseScene(seed, model);
 }
 
-void SimulatedGround::applyTo(std::uint64_t seed, rover::SimulatedRoverOptions& options) const {
+void SimulatedGround::applyTo(std::uint64_t seed, SimulatedRoverOptions& options) const {
   options.course.seed = seed;
   options.dtm = dtm;
   if (!dtm && family != sim::TerrainFamily::kCourse)
@@ -24,4 +24,4 @@ std::string SimulatedGround::name(std::uint64_t seed) const {
   return std::string(sim::familyTitle(family)) + " " + std::to_string(seed);
 }
 
-}  // namespace ambler::gs
+}  // namespace ambler::rover
