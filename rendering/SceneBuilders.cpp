@@ -1,6 +1,7 @@
 #include "rendering/SceneBuilders.h"
 
 #include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -119,8 +120,14 @@ vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std
   auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
   bar->SetLookupTable(table);
   bar->SetTitle(title.c_str());
-  bar->SetNumberOfLabels(5);
-  bar->SetLabelFormat("%.2f");
+  double range[2];
+  table->GetTableRange(range);
+  const auto ticks = colorBarTicks(range[0], range[1]);
+  vtkNew<vtkDoubleArray> labels;
+  for (const double value : ticks.values) labels->InsertNextValue(value);
+  bar->SetCustomLabels(labels);
+  bar->UseCustomLabelsOn();
+  bar->SetLabelFormat(("%." + std::to_string(ticks.decimals) + "f").c_str());
   bar->SetMaximumWidthInPixels(int(90 * pixel_ratio));
   // Far enough from the right edge that the centred title is not clipped
   // in narrow views.

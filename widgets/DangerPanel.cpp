@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "rendering/ColorMap.h"
+#include "widgets/ColorBar.h"
 
 namespace ambler::widgets {
 
@@ -77,19 +78,9 @@ class DangerImageView : public QWidget {
   }
   void colourBar(QPainter& p, const QRectF& area) {
     const QRectF bar(area.right() + 24, area.top() + 24, 16, std::max(60.0, area.height() - 48));
-    for (int y = 0; y < int(bar.height()); ++y) {
-      const auto c = rendering::viridis(1.0 - y / bar.height());
-      p.setPen(QColor(c[0], c[1], c[2]));
-      p.drawLine(QPointF(bar.left(), bar.top() + y), QPointF(bar.right(), bar.top() + y));
-    }
     p.setPen(Qt::white);
-    p.setBrush(Qt::NoBrush);
-    p.drawRect(bar);
+    paintColorBar(p, bar, 0.0, 1.0);
     p.drawText(QPointF(bar.left() - 14, bar.top() - 8), tr("D [0-1]"));
-    for (int i = 0; i <= 4; ++i) {
-      const double y = bar.top() + i * bar.height() / 4;
-      p.drawText(QPointF(bar.right() + 4, y + 4), QString::number(1.0 - i * 0.25, 'f', 2));
-    }
   }
 };
 

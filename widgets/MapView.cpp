@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "rendering/ColorMap.h"
+#include "widgets/ColorBar.h"
 
 namespace ambler::widgets {
 
@@ -19,8 +20,6 @@ constexpr int kBarWidth = 18;
 constexpr int kBarSpace = 110;
 constexpr int kReadoutHeight = 18;
 constexpr double kHalfViewM = 7.0;  // the view spans the rover's reach and more
-
-QColor toQColor(const std::array<std::uint8_t, 3>& c) { return QColor(c[0], c[1], c[2]); }
 
 const QColor kUnknownColor = toQColor(rendering::kNoDataColor);
 const QColor kShadowColor(120, 40, 140);
@@ -257,20 +256,10 @@ void MapView::drawColorBar(QPainter& p) const {
     }
     return;
   }
-  for (int y = 0; y < int(bar.height()); ++y) {
-    p.setPen(toQColor(rendering::viridis(1.0 - y / bar.height())));
-    p.drawLine(QPointF(bar.left(), bar.top() + y), QPointF(bar.right(), bar.top() + y));
-  }
   p.setPen(palette().windowText().color());
-  p.drawRect(bar);
+  paintColorBar(p, bar, lo_, hi_);
   p.drawText(QRectF(m.right() + 6, m.top(), width() - m.right() - 8, 34),
              Qt::AlignLeft | Qt::AlignTop | Qt::TextWordWrap, layerUnit(shown_));
-  for (int i = 0; i <= 4; ++i) {
-    const double value = hi_ - i * (hi_ - lo_) / 4;
-    const double y = bar.top() + i * bar.height() / 4;
-    p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 4, y));
-    p.drawText(QPointF(bar.right() + 7, y + 4), QString::number(value, 'f', 2));
-  }
   const QRectF none(bar.left(), bar.bottom() + 10, kBarWidth, 10);
   p.fillRect(none, kUnknownColor);
   p.drawText(QPointF(none.right() + 4, none.bottom()), tr("unknown"));

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "rendering/ColorMap.h"
+#include "widgets/ColorBar.h"
 
 namespace ambler::widgets {
 
@@ -16,8 +17,6 @@ constexpr int kBarWidth = 18;
 constexpr int kBarLabelSpace = 56;
 constexpr int kReadoutHeight = 22;
 constexpr double kRadToDeg = 180.0 / M_PI;
-
-QColor toQColor(const std::array<std::uint8_t, 3>& c) { return QColor(c[0], c[1], c[2]); }
 
 // The 2nd and 98th percentiles of the valid ranges: one far outlier must
 // not flatten the colours of the rest.
@@ -103,20 +102,10 @@ void RangeImageView::paintEvent(QPaintEvent*) {
 
   // Colour bar: far ranges at the top, like the image's upper rows.
   const QRectF bar = colorBarRect();
-  for (int y = 0; y < int(bar.height()); ++y) {
-    p.setPen(toQColor(rendering::viridis(1.0 - y / bar.height())));
-    p.drawLine(QPointF(bar.left(), bar.top() + y), QPointF(bar.right(), bar.top() + y));
-  }
   p.setPen(palette().windowText().color());
-  p.drawRect(bar);
+  paintColorBar(p, bar, range_lo_, range_hi_);
   p.drawText(QRectF(bar.left() - 30, bar.top() - 20, kBarWidth + kBarLabelSpace + 30, 16),
              Qt::AlignCenter, tr("Range [m]"));
-  for (int i = 0; i <= 4; ++i) {
-    const double value = range_hi_ - i * (range_hi_ - range_lo_) / 4;
-    const double y = bar.top() + i * bar.height() / 4;
-    p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 4, y));
-    p.drawText(QPointF(bar.right() + 7, y + 4), QString::number(value, 'f', 1));
-  }
   const QRectF no_data(bar.left(), bar.bottom() + 8, kBarWidth, 10);
   p.fillRect(no_data, toQColor(rendering::kNoDataColor));
   p.drawText(QPointF(no_data.right() + 4, no_data.bottom()), tr("none"));

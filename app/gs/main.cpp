@@ -211,7 +211,10 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   parser.setApplicationDescription("Ambler ground station (built-in simulator by default)");
   parser.addHelpOption();
   parser.addVersionOption();
-  const QCommandLineOption seed_option("seed", "Seed of the simulated obstacle course.", "N", "1");
+  const QCommandLineOption seed_option(
+      "seed",
+      "Seed of the simulated ground: the obstacle course or the --family terrain (default 1).", "N",
+      "1");
   const QCommandLineOption screenshot_option(
       "screenshot",
       "After the first scan is shown, save the window to FILE (PNG) and quit; after an error, "

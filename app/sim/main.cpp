@@ -136,7 +136,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--rover-id", a.rover_id, "this rover's id (the topics' key)")
       ->capture_default_str();
-  app.add_option("--seed", a.seed, "obstacle course and execution noise seed")
+  app.add_option(
+         "--seed", a.seed,
+         "seed of the ground (obstacle course or --family terrain) and of the execution noise")
       ->capture_default_str();
   auto* family =
       app.add_option("--family", a.family,
