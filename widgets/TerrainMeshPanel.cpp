@@ -15,6 +15,8 @@
 
 namespace ambler::widgets {
 
+const QColor kSteeperColour(200, 40, 40);
+
 // The mesh from above, north up, at one scale for both axes.
 class MeshTopView : public QWidget {
  public:
@@ -43,7 +45,7 @@ class MeshTopView : public QWidget {
       QPolygonF tri;
       for (int k = 0; k < 3; ++k) tri << toView(mesh->corner(t, k).head<2>());
       const double slope = mesh->slopeRad(t);
-      const QColor fill = slope > limit ? QColor(200, 40, 40) : slopeColour(slope / limit);
+      const QColor fill = slope > limit ? kSteeperColour : slopeColour(slope / limit);
       p.setPen(QPen(QColor(0, 0, 0, 90), 0));
       p.setBrush(fill);
       p.drawPolygon(tri);
@@ -105,12 +107,17 @@ class MeshTopView : public QWidget {
     p.drawText(c + QPointF(9, -6), label);
   }
   void legend(QPainter& p) const {
-    const QRectF bar(width() - 30, 40, 14, height() - 80);
+    // Above the bar, the red of triangles steeper than the limit.
+    const QRectF steeper(width() - 30, 40, 14, 12);
+    const QRectF bar(steeper.left(), steeper.bottom() + 8, 14, height() - 100);
+    p.fillRect(steeper, kSteeperColour);
     for (int i = 0; i < int(bar.height()); ++i)
       p.fillRect(QRectF(bar.left(), bar.bottom() - i, bar.width(), 1),
                  slopeColour(i / bar.height()));
     p.setPen(Qt::white);
-    p.drawText(QPointF(bar.left() - 70, bar.top() - 8), tr("Slope [deg]"));
+    p.drawText(QPointF(bar.left() - 70, steeper.top() - 8), tr("Slope [deg]"));
+    p.drawText(QRectF(steeper.left() - 64, steeper.top() - 2, 60, 16), Qt::AlignRight,
+               tr("> %1").arg(max_slope_deg, 0, 'f', 0));
     p.drawText(QPointF(bar.left() - 26, bar.top() + 10), QString::number(max_slope_deg, 'f', 0));
     p.drawText(QPointF(bar.left() - 14, bar.bottom()), QStringLiteral("0"));
     // Scale bar: 5 m.
