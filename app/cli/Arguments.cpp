@@ -52,6 +52,13 @@ RoverAt parseRoverAt(const std::string& text) {
 
 GridSpec gridOver(const Box2& region, double resolution, const std::string& what) {
   const auto grid = GridSpec::covering(region, resolution);
+  if (grid.rows <= 0 || grid.cols <= 0) {
+    std::ostringstream box;
+    box << "x " << region.x_min << ".." << region.x_max << " m, y " << region.y_min << ".."
+        << region.y_max << " m";
+    throw std::invalid_argument(what + " covers no cells: its region (" + box.str() +
+                                ") has no area; give a --region");
+  }
   if (double(grid.rows) * grid.cols > 5e7)
     throw std::invalid_argument(what + " of " + std::to_string(grid.rows) + "x" +
                                 std::to_string(grid.cols) +

@@ -37,6 +37,9 @@ std::string findProblem(const RangeImage& image) {
   for (double v : {g.phi_first, g.phi_step, g.theta_first, g.theta_step})
     if (!std::isfinite(v)) return "scan angles must be finite";
   if (g.phi_step == 0.0 || g.theta_step == 0.0) return "angular steps must be non-zero";
+  // Scanlines beyond one turn would be the same scanlines again.
+  if (std::abs(g.phi_first) > 2 * M_PI || std::abs(g.phi(g.rows - 1)) > 2 * M_PI)
+    return "phi must stay within -360..360 degrees";
   const double half_pi = M_PI / 2;
   if (std::abs(g.theta(0)) >= half_pi || std::abs(g.theta(g.cols - 1)) >= half_pi)
     return "theta must stay inside (-90, 90) degrees for eq. 1 to be invertible";

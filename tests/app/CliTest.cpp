@@ -442,6 +442,15 @@ TEST(Cli, BadInputGivesAClearMessageAndNonZeroExit) {
   EXPECT_NE(bad_family.out.find("unknown terrain family 'dunes'"), std::string::npos)
       << bad_family.out;
 
+  // One column of rays has a footprint without width: refused before any
+  // file is written (it used to fail on writing a 0-column truth TIFF, after
+  // the scan and clouds were already out).
+  const auto one_ray =
+      runCli("sim-scan --out " + (dir / "one-ray").string() + " --rows 1 --cols 1");
+  EXPECT_EQ(one_ray.exit_code, 1) << one_ray.out;
+  EXPECT_NE(one_ray.out.find("truth grid covers no cells"), std::string::npos) << one_ray.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "one-ray"));
+
   EXPECT_NE(runCli("info " + (dir / "nothing.xyz").string()).out.find("unknown kind"),
             std::string::npos);
 }
