@@ -181,7 +181,9 @@ void MapView::recolor() {
       if (const auto cell = g.cellAt(w.x(), w.y()); cell && map_->hasHeight(cell->row, cell->col))
         seen.push_back(values(cell->row, cell->col));
     }
-  const auto base = rangeOf(seen).value_or(std::pair{0.0, 1.0});
+  const auto seen_range = rangeOf(seen);
+  scale_known_ = seen_range.has_value();
+  const auto base = seen_range.value_or(std::pair{0.0, 1.0});
   base_lo_ = shown_ == Shown::kSigma ? 0.0 : base.first;
   base_hi_ = std::max(base.second, base_lo_ + 1e-3);
   lo_ = base_lo_, hi_ = base_hi_;
@@ -189,6 +191,7 @@ void MapView::recolor() {
   if (cost) {
     const auto& s = cost->score;
     const auto range = rangeOf(std::vector<float>(s.data(), s.data() + s.size()));
+    scale_known_ = shown_ == Shown::kCriterion || range.has_value();
     lo_ = shown_ == Shown::kCriterion ? 0.0 : range.value_or(std::pair{0.0, 1.0}).first;
     hi_ = shown_ == Shown::kCriterion ? 1.0 : range.value_or(std::pair{0.0, 1.0}).second;
     hi_ = std::max(hi_, lo_ + 1e-3);
@@ -257,7 +260,11 @@ void MapView::drawColorBar(QPainter& p) const {
     return;
   }
   p.setPen(palette().windowText().color());
-  paintColorBar(p, bar, lo_, hi_);
+  if (scale_known_)
+    paintColorBar(p, bar, lo_, hi_);
+  else  // a scale of made-up values would read as a measurement
+    p.drawText(bar.adjusted(0, 0, kBarSpace - kBarWidth - 20, 0),
+               Qt::AlignLeft | Qt::AlignTop | Qt::TextWordWrap, tr("no value in view"));
   p.drawText(QRectF(m.right() + 6, m.top(), width() - m.right() - 8, 34),
              Qt::AlignLeft | Qt::AlignTop | Qt::TextWordWrap, layerUnit(shown_));
   const QRectF none(bar.left(), bar.bottom() + 10, kBarWidth, 10);

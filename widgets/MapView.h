@@ -73,6 +73,7 @@ class MapView : public QWidget {
   QImage colored_;                        // the view box, one pixel per cell
   double lo_ = 0.0, hi_ = 1.0;            // the colour bar's range
   double base_lo_ = 0.0, base_hi_ = 1.0;  // the map layer's, under any cost
+  bool scale_known_ = false;              // some value in view sets lo_, hi_
   QComboBox* layer_box_;
   QString readout_;
 };

@@ -58,6 +58,32 @@ class MapViewTest : public QObject {
     QVERIFY(view.readout().contains("elevation"));
     QVERIFY(!view.readout().contains("not to stand on"));
   }
+
+  // Before the first scan (a replay at t = 0) no cell in view has a height:
+  // the colour bar shows no scale, rather than 0 to 1 m of nothing.
+  void aMapWithoutHeightsShowsNoScale() {
+    MapView view;
+    view.resize(520, 520);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    auto barShowsTheTopColour = [&] {
+      const QImage shot = view.grab().toImage();
+      const int right_of_map = int(view.widgetPointOf({7.0, 0.0}).x()) + 4;
+      for (int y = 0; y < shot.height(); ++y)
+        for (int x = right_of_map; x < shot.width(); ++x) {
+          const QColor c = shot.pixelColor(x, y);  // viridis(1): 253, 231, 37
+          if (c.red() > 240 && c.green() > 220 && c.blue() < 60) return true;
+        }
+      return false;
+    };
+    ElevationMap map(GridSpec::covering({-7, -7, 7, 7}, 0.1));
+    view.setMap(map);
+    QVERIFY(!barShowsTheTopColour());
+    map.setHeight(10, 10, CellState::kKnown, 0.2, 0.01);
+    map.setHeight(20, 20, CellState::kKnown, 0.4, 0.01);
+    view.setMap(map);
+    QVERIFY(barShowsTheTopColour());
+  }
 };
 
 int main(int argc, char** argv) {
