@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <unistd.h>
+
 namespace ambler::cli {
 
 std::vector<double> parseNumbers(const std::string& text, std::size_t count,
@@ -83,6 +85,27 @@ nlohmann::json distribution(std::vector<double> values) {
     return values[std::min(values.size() - 1, std::size_t(q * double(values.size())))];
   };
   return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", values.back()}};
+}
+
+namespace {
+int quiet_depth = 0;
+}
+
+ProgressLine::Quiet::Quiet() { ++quiet_depth; }
+ProgressLine::Quiet::~Quiet() { --quiet_depth; }
+
+ProgressLine::ProgressLine(std::string what, std::size_t total)
+    : what_(std::move(what)), total_(total), shown_(quiet_depth == 0 && isatty(STDERR_FILENO)) {}
+
+ProgressLine::~ProgressLine() {
+  if (shown_) std::cerr << "\r\033[K" << std::flush;
+}
+
+void ProgressLine::next(const std::string& item) {
+  ++done_;
+  if (shown_)
+    std::cerr << "\r\033[K" << what_ << ": " << done_ << " of " << total_ << ", " << item << " ..."
+              << std::flush;
 }
 
 }  // namespace ambler::cli

@@ -50,4 +50,28 @@ void printJson(const nlohmann::json& value);
 // A rigid motion as its 4 x 4 matrix, row by row.
 nlohmann::json matrixJson(const Eigen::Isometry3d& motion);
 
+// One line on stderr that a long command rewrites as it goes ("eval
+// elevation: 7 of 72, rocks seed 1002 ..."), cleared at the end. Only on a
+// terminal: scripts and tests read the two streams together, and `eval
+// all` prints its own progress around each evaluation (Quiet).
+class ProgressLine {
+ public:
+  ProgressLine(std::string what, std::size_t total);
+  ~ProgressLine();
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+  void next(const std::string& item);
+
+  // While one lives, no progress line is shown.
+  struct Quiet {
+    Quiet();
+    ~Quiet();
+  };
+
+ private:
+  std::string what_;
+  std::size_t total_ = 0, done_ = 0;
+  bool shown_ = false;
+};
+
 }  // namespace ambler::cli

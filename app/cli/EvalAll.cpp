@@ -124,6 +124,7 @@ void runEvalAll(const EvalAllArgs& a, const Evaluations& all) {
     std::cerr << "eval all: [" << ++n << "/" << count << "] " << e.name << " ..." << std::flush;
     const auto began = std::chrono::steady_clock::now();
     try {
+      const ProgressLine::Quiet quiet;
       report[e.name] = e.run();
       std::cerr << " " << millisecondsSince(began) / 1000 << " s\n";
     } catch (const std::exception& error) {

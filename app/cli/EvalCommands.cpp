@@ -279,10 +279,15 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
   Scores pooled;
   nlohmann::json by_family = nlohmann::json::object();
   int scenes = 0;
+  ProgressLine progress("eval elevation", families.size() * seeds.size() * poses.size());
   for (const auto family : families) {
     Scores scores;
     for (const auto seed : seeds)
       for (const auto& pose : poses) {
+        std::ostringstream item;
+        item << sim::familyName(family) << " seed " << seed << ", scanner " << pose.height_m
+             << " m up, " << pose.tilt_deg << " deg down";
+        progress.next(item.str());
         auto model = base;
         model.mount_height = pose.height_m;
         model.tilt = pose.tilt_deg * kDeg;

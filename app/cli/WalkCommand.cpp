@@ -207,7 +207,10 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
   int violations = 0, collisions = 0, stopped = 0, not_worse = 0, rms_not_worse = 0;
   double total_m = 0.0, moving_s = 0.0;
   nlohmann::json walks = nlohmann::json::array();
+  ProgressLine progress("eval walk", a.seeds.size() + std::size_t(std::max(a.repetitions, 0)));
   for (const auto seed : a.seeds) {
+    progress.next(a.course + " seed " + std::to_string(seed) + ", " + std::to_string(a.steps) +
+                  " steps");
     const auto r = walk::runWalk(config, walk::onCourse(a.course, seed, a.steps));
     walks.push_back(walkJson(seed, r));
     distance.push_back(r.distance_m);
@@ -226,6 +229,8 @@ nlohmann::json evalWalk(const EvalWalkArgs& a) {
   }
   for (int k = 0; k < a.repetitions && !a.seeds.empty(); ++k) {
     const auto seed = a.seeds[std::size_t(k) % a.seeds.size()];
+    progress.next("planning ahead against one step at a time, " + a.course + " seed " +
+                  std::to_string(seed));
     const auto c = compareModes(config, walk::onCourse(a.course, seed, a.steps));
     saving.push_back(wallSavingPct(c));
   }

@@ -622,6 +622,29 @@ TEST(Cli, WalksOnARockFieldAndACraterField) {
   EXPECT_NE(runCli("walk --course moon --steps 2").exit_code, 0);
 }
 
+// Long evaluations show where they are on a terminal (script(1) gives the
+// command one), and nothing but JSON when read by a program, as in every
+// other test here.
+TEST(Cli, LongEvaluationsShowProgressOnATerminalOnly) {
+  TempDir dir;
+  const std::string eval = std::string(AMBLER_CLI) +
+                           " eval walk --course rocks20 --seeds 3 --steps 2 --repetitions 0 "
+                           "--json > " +
+                           (dir / "walk.json").string();
+  const auto on_terminal = runProgram("script", "-qec '" + eval + "' /dev/null");
+  ASSERT_EQ(on_terminal.exit_code, 0) << on_terminal.out;
+  EXPECT_NE(on_terminal.out.find("eval walk: 1 of 1, rocks20 seed 3, 2 steps ..."),
+            std::string::npos)
+      << on_terminal.out;
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir / "walk.json"))["walks"], 1);
+
+  const auto piped =
+      runCli("eval walk --course rocks20 --seeds 3 --steps 2 --repetitions 0 --json");
+  ASSERT_EQ(piped.exit_code, 0) << piped.out;
+  EXPECT_EQ(piped.out.find("eval walk:"), std::string::npos) << piped.out;
+  EXPECT_EQ(nlohmann::json::parse(piped.out)["walks"], 1);
+}
+
 TEST(Cli, WalkPrintsTheWalksFigures) {
   const auto run = runCli("walk --seed 4 --steps 6 --json");
   ASSERT_EQ(run.exit_code, 0) << run.out;
