@@ -33,11 +33,14 @@
 namespace {
 
 // Saves the window 800 ms after the first call (the views have painted),
-// then quits with `status` (1 if it could not save).
-void screenshotOnce(QWidget& window, const QString& path, int status = 0) {
+// then quits with `status` (1 if it could not save). The 3-D view draws on
+// its own thread, a frame of the full scene taking up to 0.4 s on a loaded
+// machine: the shot waits for a frame that holds what was sent to it.
+void screenshotOnce(ambler::widgets::MainWindow& window, const QString& path, int status = 0) {
   static bool shot = false;
   if (std::exchange(shot, true)) return;
   QTimer::singleShot(800, &window, [&window, path, status] {
+    window.terrainView()->view()->renderedImage();
     const bool saved = window.grab().save(path);
     std::cout << (saved ? "saved " : "could not save ") << path.toStdString() << std::endl;
     QApplication::exit(saved ? status : 1);
