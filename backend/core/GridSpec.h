@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 namespace ambler {
 
@@ -20,6 +21,27 @@ struct Box2 {
   double width() const { return x_max - x_min; }
   double height() const { return y_max - y_min; }
   Box2 bounds() const { return *this; }
+
+  // The stretch [t_in, t_out] of origin + t dir, t in [0, t_max], that lies
+  // in the box (the slab test); none when the line misses it there.
+  std::optional<std::pair<double, double>> lineInterval(const Eigen::Vector2d& origin,
+                                                        const Eigen::Vector2d& dir,
+                                                        double t_max) const {
+    double t_in = 0.0, t_out = t_max;
+    const double lo[2] = {x_min, y_min}, hi[2] = {x_max, y_max};
+    for (int a = 0; a < 2; ++a) {
+      if (std::abs(dir[a]) < 1e-12) {
+        if (origin[a] < lo[a] || origin[a] > hi[a]) return std::nullopt;
+        continue;
+      }
+      double ta = (lo[a] - origin[a]) / dir[a], tb = (hi[a] - origin[a]) / dir[a];
+      if (ta > tb) std::swap(ta, tb);
+      t_in = std::max(t_in, ta);
+      t_out = std::min(t_out, tb);
+    }
+    if (t_in > t_out) return std::nullopt;
+    return std::pair{t_in, t_out};
+  }
 };
 
 struct Cell {

@@ -522,16 +522,10 @@ std::string WalkExecutive::mapEdgeHint() const {
   if (!reported_ || opt_.heading.isPointTurn()) return {};
   const gait::BodyPose& body = reported_->body;
   const Eigen::Vector2d ahead = body.rotation() * Eigen::Vector2d::UnitY();
-  const Box2 box = map_.grid().bounds();
-  double to_edge = std::numeric_limits<double>::infinity();
-  for (int axis = 0; axis < 2; ++axis) {
-    const double lo = axis == 0 ? box.x_min : box.y_min, hi = axis == 0 ? box.x_max : box.y_max;
-    if (ahead[axis] > 1e-9) to_edge = std::min(to_edge, (hi - body.xy[axis]) / ahead[axis]);
-    if (ahead[axis] < -1e-9) to_edge = std::min(to_edge, (lo - body.xy[axis]) / ahead[axis]);
-  }
+  const auto inside = map_.grid().bounds().lineInterval(body.xy, ahead, INFINITY);
   const double reach = ctx_.model.extension_max_m + ctx_.model.foot_diameter_m;
-  if (!(to_edge <= reach)) return {};
-  return " (the map ends " + metres(std::max(0.0, to_edge)) +
+  if (!inside || !(inside->second <= reach)) return {};
+  return " (the map ends " + metres(inside->second) +
          " ahead of the body, within a leg's reach: it keeps no ground beyond its extent)";
 }
 

@@ -29,19 +29,10 @@ double RayCaster::groundGap(const Eigen::Vector3d& o, const Eigen::Vector3d& d, 
 
 std::optional<double> RayCaster::cast(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                                       double max_range) const {
-  // Clip the ray to the terrain's extent (slab test in x and y).
-  double t0 = 0.0, t1 = max_range;
-  const double lo[2] = {extent_.x_min, extent_.y_min}, hi[2] = {extent_.x_max, extent_.y_max};
-  for (int a = 0; a < 2; ++a) {
-    if (std::abs(d[a]) < 1e-12) {
-      if (o[a] < lo[a] || o[a] > hi[a]) return std::nullopt;
-      continue;
-    }
-    double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
+  // Clip the ray to the terrain's extent.
+  const auto inside = extent_.lineInterval(o.head<2>(), d.head<2>(), max_range);
+  if (!inside) return std::nullopt;
+  auto [t0, t1] = *inside;
   // Nothing is hit above the terrain's top: a ray from high above starts
   // just over it rather than crossing bin after bin of empty space.
   const double above_top = top_ + 0.01;
