@@ -348,7 +348,7 @@ void addEval(CLI::App& app) {
       "elevation",
       "Locus method vs Cartesian binning on simulated scans of several terrain families");
   cmd->add_option("--families", args->families,
-                  "terrain families: course, rocks, craters, rough, negative, slope (default: all)")
+                  "terrain families (default: all): " + sim::familyNamesListed())
       ->delimiter(',');
   cmd->add_option("--seeds", args->seeds, "terrain seeds (default: the evaluation seeds)")
       ->delimiter(',');

@@ -115,8 +115,7 @@ void addSimScan(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sim-scan", "Simulate one laser range image of a terrain family, with ground truth");
   cmd->add_option("--seed", args->seed, "terrain and noise seed")->capture_default_str();
-  cmd->add_option("--family", args->family,
-                  "terrain family: course, rocks, craters, rough, negative, slope")
+  cmd->add_option("--family", args->family, "terrain family: " + sim::familyNamesListed())
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder")->required();
   cmd->add_option("--config", args->config, "scanner model JSON (default: config/scanner.json)");

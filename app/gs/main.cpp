@@ -26,6 +26,7 @@
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
 #include "rendering/VtkView.h"
+#include "sim/TerrainFamilies.h"
 #include "widgets/SamplingPanel.h"
 #include "widgets/StepApprovalPanel.h"
 #include "widgets/TerrainView.h"
@@ -254,8 +255,9 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
       "FILE");
   const QCommandLineOption family_option(
       "family",
-      "Simulate on a terrain family drawn from the seed, as the evaluations draw it: course (the "
-      "obstacle course, the default), rocks, craters, rough, negative or slope.",
+      QString::fromStdString("Simulate on a terrain family drawn from the seed, as the "
+                             "evaluations draw it (course, the obstacle course, by default): " +
+                             ambler::sim::familyNamesListed() + "."),
       "NAME", "course");
   const QCommandLineOption dtm_centre_option(
       "dtm-centre",
@@ -293,8 +295,7 @@ std::optional<LaunchOptions> parseLaunchOptions(const QApplication& app) {
   o.dtm = parser.value(dtm_option);
   const auto family = ambler::sim::parseFamily(parser.value(family_option).toStdString());
   if (!family) {
-    std::cerr << "ambler-gs: --family must be course, rocks, craters, rough, negative or slope"
-              << std::endl;
+    std::cerr << "ambler-gs: --family must be " << ambler::sim::familyNamesListed() << std::endl;
     return std::nullopt;
   }
   o.family = *family;

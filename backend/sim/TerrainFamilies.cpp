@@ -90,6 +90,15 @@ std::optional<TerrainFamily> parseFamily(std::string_view name) {
   return std::nullopt;
 }
 
+std::string familyNamesListed() {
+  std::string names;
+  for (std::size_t i = 0; i < kTerrainFamilies.size(); ++i) {
+    if (i > 0) names += i + 1 == kTerrainFamilies.size() ? " or " : ", ";
+    names += familyName(kTerrainFamilies[i]);
+  }
+  return names;
+}
+
 double golombekRappDensity(double abundance, double d_lo, double d_hi) {
   return diameterTable(abundance, d_lo, d_hi).cumulative.back();
 }

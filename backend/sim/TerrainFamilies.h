@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "sim/ProceduralTerrain.h"
@@ -35,6 +36,9 @@ std::string_view familyName(TerrainFamily family);
 // ground", "negative obstacles", "slope".
 std::string_view familyTitle(TerrainFamily family);
 std::optional<TerrainFamily> parseFamily(std::string_view name);
+// Every family's name, for help and error texts: "course, rocks, craters,
+// rough, negative or slope".
+std::string familyNamesListed();
 
 // Rocks whose sizes follow the Golombek & Rapp (1997) model for Mars: the
 // cumulative fraction of area covered by rocks of diameter >= D is
