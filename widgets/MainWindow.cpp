@@ -23,6 +23,7 @@
 #include "terrain/ElevationMapFile.h"
 #include "widgets/CommandLogView.h"
 #include "widgets/DangerPanel.h"
+#include "widgets/ElidedLabel.h"
 #include "widgets/MapView.h"
 #include "widgets/RangeImageView.h"
 #include "widgets/SamplingPanel.h"
@@ -49,7 +50,7 @@ MainWindow::MainWindow(QWidget* parent)
       mesh_panel_(new TerrainMeshPanel),
       danger_panel_(new DangerPanel),
       views_(new QTabWidget),
-      status_(new QLabel),
+      status_(new ElidedLabel),
       link_status_(new QLabel),
       progress_(new QProgressBar),
       telemetry_(new TelemetryPanel),
