@@ -216,8 +216,9 @@ class NetworkBench : public testing::Test {
     auto& r = relay(profile);
     auto& sim = rover();
     auto& watcher = console("ground-b", "watcher", {"--watch"});
-    // Acknowledgements are volatile: the watcher must have found the rover
-    // before the first command, or it never sees that one's answer.
+    // A reader that matches late gets only the last 64 acknowledgements:
+    // the watcher must have found the rover before the first command, or
+    // a walk's early answers may be gone by then.
     EXPECT_TRUE(watcher.waitFor([](const Json& j) { return j.value("link", "") == "fresh"; },
                                 std::chrono::seconds(60)));
     auto options = key("alice");
@@ -374,9 +375,11 @@ TEST_P(LongOutage, MidWalkHoldsTheRoverUntilAnExplicitResume) {
   resume_opts.insert(resume_opts.end(),
                      {"--steps", std::to_string(10 - done), "--auto-approve", "--resume"});
   auto& resumed = console("ground-a", "walker", resume_opts);
+  // The console's own lines last, where a log cut in its middle keeps them.
   ASSERT_EQ(resumed.wait(std::chrono::seconds(300)), std::optional<int>(0))
-      << resumed.text() << "\nrover:\n"
-      << sim.text();
+      << "rover:\n"
+      << sim.text() << "\nresumed console:\n"
+      << resumed.text();
   EXPECT_EQ(resumed.last().value("steps_done", 0), 10 - done);
   EXPECT_EQ(resumed.last().value("unanswered", -1), 0);
   std::this_thread::sleep_for(std::chrono::seconds(1));

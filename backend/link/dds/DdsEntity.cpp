@@ -47,7 +47,15 @@ struct Qos {
         dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
         dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 4);
         break;
-      case Traffic::kInOrder:
+      case Traffic::kAnswers:
+        dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+        dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 64);
+        // What a late reader gets: Cyclone keeps only the last sample by
+        // default.
+        dds_qset_durability_service(qos, 0, DDS_HISTORY_KEEP_LAST, 64, DDS_LENGTH_UNLIMITED,
+                                    DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+        break;
+      case Traffic::kCommands:
         dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
         dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 64);
         break;

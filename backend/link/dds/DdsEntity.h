@@ -44,15 +44,17 @@ Entity joinDomain(std::uint32_t domain);
 
 // The link's topics on one participant, with their QoS: state
 // (heartbeat, legs, body, images) reliable and transient-local so that a
-// console joining late gets the latest; acks and commands reliable and
-// volatile, in order.
+// console joining late gets the latest; acknowledgements reliable, in
+// order and transient-local (the last 64), so that one written before the
+// rover's writer had matched a console's reader still reaches it; commands
+// reliable, in order and volatile.
 struct Topics {
   explicit Topics(dds_entity_t participant);
   Entity heartbeat, leg_state, body_state, command_ack, range_image, striper_image, command;
 };
 
 // Reader and writer QoS for a topic of `Topics`.
-enum class Traffic { kState, kImages, kInOrder };
+enum class Traffic { kState, kImages, kAnswers, kCommands };
 Entity makeWriter(dds_entity_t participant, dds_entity_t topic, Traffic traffic);
 Entity makeReader(dds_entity_t participant, dds_entity_t topic, Traffic traffic);
 

@@ -257,10 +257,10 @@ RoverEndpoint::RoverEndpoint(std::uint32_t domain, std::uint32_t rover_id)
       heartbeat_(makeWriter(participant_.get(), topics_.heartbeat.get(), Traffic::kState)),
       leg_state_(makeWriter(participant_.get(), topics_.leg_state.get(), Traffic::kState)),
       body_state_(makeWriter(participant_.get(), topics_.body_state.get(), Traffic::kState)),
-      command_ack_(makeWriter(participant_.get(), topics_.command_ack.get(), Traffic::kInOrder)),
+      command_ack_(makeWriter(participant_.get(), topics_.command_ack.get(), Traffic::kAnswers)),
       range_image_(makeWriter(participant_.get(), topics_.range_image.get(), Traffic::kImages)),
       striper_image_(makeWriter(participant_.get(), topics_.striper_image.get(), Traffic::kImages)),
-      commands_(makeReader(participant_.get(), topics_.command.get(), Traffic::kInOrder)),
+      commands_(makeReader(participant_.get(), topics_.command.get(), Traffic::kCommands)),
       wait_(participant_.get()) {
   wait_.attach(commands_.get());
 }
@@ -305,10 +305,10 @@ DdsLink::DdsLink(std::uint32_t domain, std::uint32_t rover_id,
       heartbeat_(makeReader(participant_.get(), topics_.heartbeat.get(), Traffic::kState)),
       leg_state_(makeReader(participant_.get(), topics_.leg_state.get(), Traffic::kState)),
       body_state_(makeReader(participant_.get(), topics_.body_state.get(), Traffic::kState)),
-      command_ack_(makeReader(participant_.get(), topics_.command_ack.get(), Traffic::kInOrder)),
+      command_ack_(makeReader(participant_.get(), topics_.command_ack.get(), Traffic::kAnswers)),
       range_image_(makeReader(participant_.get(), topics_.range_image.get(), Traffic::kImages)),
       striper_image_(makeReader(participant_.get(), topics_.striper_image.get(), Traffic::kImages)),
-      commands_(makeWriter(participant_.get(), topics_.command.get(), Traffic::kInOrder)),
+      commands_(makeWriter(participant_.get(), topics_.command.get(), Traffic::kCommands)),
       wait_(participant_.get()) {
   for (const auto* e :
        {&heartbeat_, &leg_state_, &body_state_, &command_ack_, &range_image_, &striper_image_})

@@ -158,6 +158,25 @@ TEST(DdsLink, AStriperImageCrossesTheDomainWhole) {
   EXPECT_EQ(link.dropped(), 0);
 }
 
+// Discovery runs each way on its own: the rover may take a console's
+// command (its reader matched) before its own acknowledgement writer has
+// matched that console's reader. The answer must still arrive, in order.
+TEST(DdsLink, AcknowledgementsWrittenBeforeAConsoleMatchedReachIt) {
+  const auto domain = testDomain();
+  RoverEndpoint rover(domain, 1);
+  for (std::uint64_t sequence : {7, 8})
+    rover.publish({1, 100.0 + double(sequence), CommandAck{"alice", 3, sequence, true, ""}});
+  DdsLink late(domain, 1);
+  const auto acks = only<CommandAck>(collect(
+      late, [](const auto& a) { return only<CommandAck>(a).size() >= 2; },
+      std::chrono::seconds(10)));
+  ASSERT_EQ(acks.size(), 2u);
+  EXPECT_EQ(acks[0].sequence, 7u);
+  EXPECT_EQ(acks[1].sequence, 8u);
+  EXPECT_EQ(acks[1].operator_id, "alice");
+  EXPECT_TRUE(acks[1].accepted);
+}
+
 TEST(DdsLink, AnotherRoversTrafficIsNotSeen) {
   const auto domain = testDomain();
   RoverThread rover(domain);  // rover 1
