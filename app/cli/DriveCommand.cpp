@@ -73,6 +73,13 @@ class ConsoleLink : public link::Link {
 
   void approved(double now_s) { approved_s_ = now_s; }
   std::size_t unanswered() const { return unanswered_.size(); }
+  // Each command not yet answered, as "type sequence".
+  std::vector<std::string> unansweredCommands() const {
+    std::vector<std::string> out;
+    for (const auto& [sequence, type] : unanswered_)
+      out.push_back(type + " " + std::to_string(sequence));
+    return out;
+  }
   // The rover time of its newest heartbeat.
   double lastHeartbeatS() const { return last_heartbeat_s_; }
   bool heardHeartbeat() const { return last_heartbeat_s_ > kNever; }
@@ -84,6 +91,7 @@ class ConsoleLink : public link::Link {
             {"acks", acks_},
             {"refused", refused_},
             {"unanswered", unanswered_.size()},
+            {"unanswered_commands", unansweredCommands()},
             {"other_consoles_acks", others_acks_},
             {"approval_to_motion_s", distribution(latencies_s_)}};
   }
@@ -237,6 +245,15 @@ bool handOverBetweenSteps(Console& c, link::CommandSigner& signer, executive::Ap
   return false;
 }
 
+// What a console that stopped still waits for, so that a long wait says why.
+std::string awaited(const ConsoleLink& link) {
+  const auto commands = link.unansweredCommands();
+  if (commands.empty()) return "a heartbeat the rover sent after the stop";
+  std::string list;
+  for (const auto& c : commands) list += (list.empty() ? "" : ", ") + c;
+  return "the answer" + std::string(commands.size() > 1 ? "s" : "") + " to " + list;
+}
+
 int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double start_s) {
   const auto context = gait::readInstalledGaitContext();
   executive::ApprovalGate gate([&](const missionlog::Decision& d) {
@@ -292,6 +309,9 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
            (stopped != "suspended" ||
             (!c.health.stale(now_s) && c.link.lastHeartbeatS() >= stopped_s));
   };
+  if (!settled())
+    printLine({{"event", "stopped (" + stopped + "); waiting for " + awaited(c.link)},
+               {"t_s", stopped_s - start_s}});
   while (!settled() && link::utcNowS() - start_s < a.timeout_s) turn();
   auto summary = c.link.figures();
   summary.update({{"stopped", stopped},

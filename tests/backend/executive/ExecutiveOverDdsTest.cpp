@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -230,6 +231,71 @@ TEST(ExecutiveOverDds, AConsoleKilledMidWalkLosesNoAcknowledgedCommandAndTheRove
     EXPECT_TRUE(traffic.commands.count(sequence)) << "command " << sequence << " lost";
     EXPECT_TRUE(traffic.acks.count(sequence)) << "ack of " << sequence << " lost";
   }
+}
+
+// A rover that reports its state and heartbeat but answers no command: the
+// console (ambler-cli drive) suspends at its ack timeout, says which
+// commands it still waits for, and at its own timeout names them again.
+TEST(ExecutiveOverDds, AConsoleWhoseCommandsAreNeverAnsweredSaysWhichItWaitsFor) {
+  TempDir dir;
+  const auto domain = testDomain();
+  rover::SimulatedRoverOptions rover_options;
+  rover_options.operators = {alice()};
+  rover::SimulatedRover rover(simulator(), rover_options);
+  link::dds::RoverEndpoint endpoint(domain, 1);
+  std::atomic<bool> stop{false};
+  std::thread mute([&] {
+    while (!stop) {
+      for (const auto& t : rover.state(link::utcNowS())) endpoint.publish(t);
+      endpoint.publish(rover.heartbeat(link::utcNowS()));
+      (void)endpoint.takeCommands(100ms);  // taken, never answered
+    }
+  });
+  const auto key = dir / "alice.json";
+  std::ofstream(key) << R"({"operator": "alice", "key_hex": ")" << aliceHex() << R"("})";
+  const auto log = dir / "mission.db";
+  int out[2];
+  ASSERT_EQ(::pipe(out), 0);
+  const pid_t console = ::fork();
+  ASSERT_GE(console, 0);
+  if (console == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    ::close(out[0]);
+    const std::string d = std::to_string(domain);
+    // Past the ack timeout (10 s) with room for a slow start.
+    ::execl(AMBLER_CLI, AMBLER_CLI, "drive", "--domain", d.c_str(), "--key", key.c_str(), "--log",
+            log.c_str(), "--steps", "1", "--auto-approve", "--timeout", "20",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  std::vector<nlohmann::json> lines;
+  FILE* in = ::fdopen(out[0], "r");
+  for (char line[4096]; std::fgets(line, sizeof line, in);)
+    lines.push_back(nlohmann::json::parse(line, nullptr, false));
+  std::fclose(in);
+  int status = 0;
+  ::waitpid(console, &status, 0);
+  stop = true;
+  mute.join();
+
+  ASSERT_FALSE(lines.empty());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << lines.back();
+  const auto summary = lines.back();
+  EXPECT_EQ(summary.value("stopped", ""), "suspended") << summary;
+  // The scan, and the Hold the suspension sent.
+  EXPECT_EQ(summary.value("unanswered", -1), 2) << summary;
+  ASSERT_EQ(summary["unanswered_commands"].size(), 2u) << summary;
+  const std::string scan = summary["unanswered_commands"][0],
+                    hold = summary["unanswered_commands"][1];
+  EXPECT_EQ(scan.rfind("AcquireScan ", 0), 0u) << scan;
+  EXPECT_EQ(hold.rfind("Hold ", 0), 0u) << hold;
+  const auto waiting = std::find_if(lines.begin(), lines.end(), [](const nlohmann::json& j) {
+    return j.value("event", "").rfind("stopped (suspended); waiting for", 0) == 0;
+  });
+  ASSERT_NE(waiting, lines.end());
+  EXPECT_EQ((*waiting)["event"],
+            "stopped (suspended); waiting for the answers to " + scan + ", " + hold);
 }
 
 // The rover's process killed with SIGKILL mid-walk: the executive does not
