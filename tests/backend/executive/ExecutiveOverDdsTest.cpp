@@ -77,6 +77,36 @@ class SimProcess {
   pid_t pid_ = -1;
 };
 
+// ambler-cli drive as alice on `domain`, logging to `log`, with `options`:
+// its process and its standard output, to read line by line.
+std::pair<pid_t, FILE*> startDrive(const TempDir& dir, std::uint32_t domain,
+                                   const std::filesystem::path& log,
+                                   std::vector<std::string> options) {
+  const auto key = dir / "alice.json";
+  std::ofstream(key) << R"({"operator": "alice", "key_hex": ")" << aliceHex() << R"("})";
+  std::vector<std::string> argv = {AMBLER_CLI, "drive", "--domain", std::to_string(domain),
+                                   "--key",    key,     "--log",    log};
+  argv.insert(argv.end(), options.begin(), options.end());
+  int out[2];
+  if (::pipe(out) != 0) return {-1, nullptr};
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(out[0]), ::close(out[1]);
+    return {-1, nullptr};
+  }
+  if (pid == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    ::close(out[0]);
+    std::vector<char*> args;
+    for (auto& a : argv) args.push_back(a.data());
+    args.push_back(nullptr);
+    ::execv(AMBLER_CLI, args.data());
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  return {pid, ::fdopen(out[0], "r")};
+}
+
 // What a log holds: commands by sequence, acknowledgements by sequence.
 struct LoggedTraffic {
   std::map<std::uint64_t, std::string> commands;
@@ -170,25 +200,11 @@ TEST(ExecutiveOverDds, AConsoleKilledMidWalkLosesNoAcknowledgedCommandAndTheRove
   const auto domain = testDomain();
   const double link_timeout_s = 2.0;
   SimProcess sim(dir, domain, link_timeout_s);
-  const auto key = dir / "alice.json";
-  std::ofstream(key) << R"({"operator": "alice", "key_hex": ")" << aliceHex() << R"("})";
   const auto log = dir / "mission.db";
-  int out[2];
-  ASSERT_EQ(::pipe(out), 0);
-  const pid_t console = ::fork();
+  const auto [console, lines] = startDrive(dir, domain, log, {"--steps", "40", "--auto-approve"});
   ASSERT_GE(console, 0);
-  if (console == 0) {
-    ::dup2(out[1], STDOUT_FILENO);
-    ::close(out[0]);
-    const std::string d = std::to_string(domain);
-    ::execl(AMBLER_CLI, AMBLER_CLI, "drive", "--domain", d.c_str(), "--key", key.c_str(), "--log",
-            log.c_str(), "--steps", "40", "--auto-approve", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ::close(out[1]);
   link::dds::DdsLink monitor(domain, 1);  // no key: it can only watch
 
-  FILE* lines = ::fdopen(out[0], "r");
   std::set<std::uint64_t> acked;
   int moves_acked = 0;
   char line[4096];
@@ -251,26 +267,11 @@ TEST(ExecutiveOverDds, AConsoleWhoseCommandsAreNeverAnsweredSaysWhichItWaitsFor)
       (void)endpoint.takeCommands(100ms);  // taken, never answered
     }
   });
-  const auto key = dir / "alice.json";
-  std::ofstream(key) << R"({"operator": "alice", "key_hex": ")" << aliceHex() << R"("})";
-  const auto log = dir / "mission.db";
-  int out[2];
-  ASSERT_EQ(::pipe(out), 0);
-  const pid_t console = ::fork();
+  // Past the ack timeout (10 s) with room for a slow start.
+  const auto [console, in] = startDrive(dir, domain, dir / "mission.db",
+                                        {"--steps", "1", "--auto-approve", "--timeout", "20"});
   ASSERT_GE(console, 0);
-  if (console == 0) {
-    ::dup2(out[1], STDOUT_FILENO);
-    ::close(out[0]);
-    const std::string d = std::to_string(domain);
-    // Past the ack timeout (10 s) with room for a slow start.
-    ::execl(AMBLER_CLI, AMBLER_CLI, "drive", "--domain", d.c_str(), "--key", key.c_str(), "--log",
-            log.c_str(), "--steps", "1", "--auto-approve", "--timeout", "20",
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ::close(out[1]);
   std::vector<nlohmann::json> lines;
-  FILE* in = ::fdopen(out[0], "r");
   for (char line[4096]; std::fgets(line, sizeof line, in);)
     lines.push_back(nlohmann::json::parse(line, nullptr, false));
   std::fclose(in);
