@@ -1,6 +1,7 @@
 #include "executive/WalkExecutive.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -228,8 +229,12 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
       suspend(now_s, "step rejected by the operator", false);
     }
   }
-  if (phase_ == Phase::kExecuting && move_acked_at_s_ && report_.reportedSince(*move_acked_at_s_))
-    afterMove(now_s);
+  if (phase_ == Phase::kExecuting && move_acked_at_s_) {
+    if (report_.reportedSince(*move_acked_at_s_))
+      afterMove(now_s);
+    else if (now_s > move_due_s_)
+      suspend(now_s, move_late_, true);
+  }
 }
 
 void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
@@ -274,6 +279,19 @@ double WalkExecutive::ackTimeoutS() const {
   return std::max(opt_.ack_timeout_s, 4.0 * round_trip_s_.value_or(0.0));
 }
 
+double WalkExecutive::modelledSeconds(const link::CommandBody& command) const {
+  const auto& m = ctx_.model;
+  if (const auto* body = std::get_if<link::BodyMove>(&command))
+    return m.bodyMoveS(std::hypot(body->x_m, body->y_m), body->rotation_rad, body->raise_m);
+  const auto* leg = std::get_if<link::LegMove>(&command);
+  if (!leg || leg->waypoints.empty()) return 0.0;
+  const auto& reported = report_.legs[std::size_t(leg->leg)];
+  gait::LegJoints at = reported ? reported->joints : leg->waypoints.front();
+  double seconds = 0.0;
+  for (const auto& waypoint : leg->waypoints) seconds += m.legSegmentS(at, waypoint), at = waypoint;
+  return seconds + std::max(0.0, m.vertical_max_m - at.vertical_m) / m.vertical_speed_m_s;
+}
+
 void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, double now_s) {
   if (ack.operator_id != signer_.operatorId() || ack.console_id != signer_.consoleId()) return;
   // This console's commands reach the rover in the order sent, so the
@@ -299,9 +317,22 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, doub
   }
   tasks_.finish(task, now_s);
   if (moving)
-    move_acked_at_s_ = rover_time_s;
+    expectOutcome(ack.sequence, rover_time_s, now_s);
   else
     scan_acked_s_ = now_s;
+}
+
+void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s) {
+  move_acked_at_s_ = rover_time_s;
+  const double modelled = modelledSeconds(executing_->commands[next_command_ - 1]);
+  const double limit = opt_.move_time_factor * modelled + ackTimeoutS();
+  move_due_s_ = now_s + limit;
+  std::ostringstream why;
+  why.precision(3);
+  why << "the rover did not report the outcome of the " << awaiting_what_ << " (sequence "
+      << sequence << ") within " << limit << " s of acknowledging it (the move takes " << modelled
+      << " s by the rover model)";
+  move_late_ = why.str();
 }
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the part of

@@ -40,6 +40,13 @@ struct ExecutiveOptions {
   // `scan_attempts` in all; then the step suspends, naming the image.
   double image_timeout_s = 10.0;
   int scan_attempts = 3;
+  // A move whose outcome (the leg and body states the rover reports after
+  // acknowledging it) has not come within this many times the move's
+  // duration by the rover model's joint and body speeds, plus the ack
+  // timeout: Hold, suspend. A rover acknowledges a move when it takes it
+  // on, so without a limit a rover that stopped reporting would keep the
+  // step executing for good.
+  double move_time_factor = 2.0;
   double off_plan_m = 0.05;    // body or foot further than this from the plan: replan
   double off_plan_rad = 0.02;  // or the body turned this much more or less than planned
   // Plan the next step while the rover executes this one (cmu-1990 TCA);
@@ -187,6 +194,11 @@ class WalkExecutive {
   // awaited commands); none before the first.
   std::optional<double> roundTripS() const { return round_trip_s_; }
   double ackTimeoutS() const;
+  // The seconds a command takes the rover by its model: a leg move from
+  // the leg's reported joints through its waypoints and down to the
+  // lowest reach (contact may come sooner), a body move on its velocity
+  // profiles; 0 for anything else.
+  double modelledSeconds(const link::CommandBody& command) const;
   // Why the link could not carry the last command, until the rover is
   // heard again; the walk is suspended meanwhile.
   const std::optional<std::string>& linkLost() const { return link_lost_; }
@@ -215,6 +227,8 @@ class WalkExecutive {
   std::string mapEdgeHint() const;
   void handle(const link::Telemetry& message, double now_s);
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
+  // From this acknowledgement on, the move's outcome is awaited, until a limit.
+  void expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s);
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
   void endHold(double now_s);
   void requestScan(double now_s);
@@ -297,6 +311,8 @@ class WalkExecutive {
   // The rover's time of the acknowledgement of the move under way: what it
   // reports from then on is the state after it.
   std::optional<double> move_acked_at_s_;
+  double move_due_s_ = 0.0;                      // console time by which its outcome must have come
+  std::string move_late_;                        // what to say if it has not
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends

@@ -32,6 +32,30 @@ double RoverModel::beyondLimits(const LegJoints& q) const {
          beyond(q.vertical_m, vertical_min_m, vertical_max_m);
 }
 
+double RoverModel::legSegmentS(const LegJoints& from, const LegJoints& to) const {
+  const double d_rot = std::remainder(to.rotation_rad - from.rotation_rad, 2 * M_PI);
+  return std::max({std::abs(d_rot) / rotation_speed_rad_s,
+                   std::abs(to.extension_m - from.extension_m) / extension_speed_m_s,
+                   std::abs(to.vertical_m - from.vertical_m) / vertical_speed_m_s});
+}
+
+namespace {
+
+// Duration of a trapezoidal (or triangular) velocity profile.
+double trapezoid(double distance, double v_max, double accel) {
+  if (distance <= 0) return 0.0;
+  if (distance >= v_max * v_max / accel) return distance / v_max + v_max / accel;
+  return 2.0 * std::sqrt(distance / accel);
+}
+
+}  // namespace
+
+double RoverModel::bodyMoveS(double distance_m, double turn_rad, double raise_m) const {
+  return std::max({trapezoid(std::abs(distance_m), body_speed_m_s, body_accel_m_s2),
+                   trapezoid(std::abs(turn_rad), body_turn_speed_rad_s, body_accel_m_s2),
+                   std::abs(raise_m) / vertical_speed_m_s});
+}
+
 void validate(const RoverModel& m) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(what);

@@ -56,6 +56,12 @@ struct RoverModel {
   // How far q's extension and vertical reach lie outside their limits,
   // summed (0 within them).
   double beyondLimits(const LegJoints& q) const;
+  // Seconds for a leg to go from `from` to `to`, each joint at its speed
+  // (the slowest sets the time).
+  double legSegmentS(const LegJoints& from, const LegJoints& to) const;
+  // Seconds for a body move: translation and turn each on a trapezoidal
+  // velocity profile, the link plane raised at the vertical speed.
+  double bodyMoveS(double distance_m, double turn_rad, double raise_m) const;
 };
 
 // Throws std::invalid_argument naming the first field out of range.

@@ -30,13 +30,6 @@ double groundUnderFoot(const Terrain& terrain, const Eigen::Vector2d& xy, double
   return top;
 }
 
-// Duration of a trapezoidal (or triangular) velocity profile.
-double trapezoid(double distance, double v_max, double accel) {
-  if (distance <= 0) return 0.0;
-  if (distance >= v_max * v_max / accel) return distance / v_max + v_max / accel;
-  return 2.0 * std::sqrt(distance / accel);
-}
-
 }  // namespace
 
 ExecutionNoise readExecutionNoise(const std::filesystem::path& path) {
@@ -136,9 +129,7 @@ bool RoverSim::followSegment(int leg, gait::LegJoints& q, gait::LegJoints target
   const double d_rot = std::remainder(target.rotation_rad - q.rotation_rad, 2 * M_PI);
   const double d_ext = target.extension_m - q.extension_m,
                d_vert = target.vertical_m - q.vertical_m;
-  const double seg_time = std::max({std::abs(d_rot) / model_.rotation_speed_rad_s,
-                                    std::abs(d_ext) / model_.extension_speed_m_s,
-                                    std::abs(d_vert) / model_.vertical_speed_m_s});
+  const double seg_time = model_.legSegmentS(q, target);
   const double travel =
       std::max({std::abs(d_rot) * model_.extension_max_m, std::abs(d_ext), std::abs(d_vert)});
   const int n = std::max(1, int(std::ceil(travel / 0.02)));
@@ -219,10 +210,7 @@ MoveReport RoverSim::executeBody(const BodyMove& move) {
   MoveReport report;
   const gait::BodyPose start = truth_.body;
   const double distance = move.translation.norm(), turn = std::abs(move.rotation_rad);
-  report.duration_s =
-      std::max({trapezoid(distance, model_.body_speed_m_s, model_.body_accel_m_s2),
-                trapezoid(turn, model_.body_turn_speed_rad_s, model_.body_accel_m_s2),
-                std::abs(move.raise_m) / model_.vertical_speed_m_s});
+  report.duration_s = model_.bodyMoveS(distance, turn, move.raise_m);
   std::normal_distribution<double> unit(0.0, 1.0);
   const double scale = noise_.body_m * std::max(distance, 0.1);
   const Eigen::Vector2d translation =

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <optional>
 
@@ -28,11 +29,15 @@ link::OperatorKey bob() { return {"bob", std::vector<std::uint8_t>(32, 8)}; }
 class CountingLink : public link::Link {
  public:
   explicit CountingLink(const rover::SimulatedRoverConfig& rover = simulator())
-      : inner_(rover, options(), 200ms) {}
+      : inner_(rover, options(), 200ms,
+               [this](const link::Command&, const rover::SimulatedRover& r) {
+                 move_s = r.lastMove().duration_s;
+               }) {}
   void send(const link::Command& c) override {
     if (!std::holds_alternative<link::GroundHeartbeat>(c.body))
       sent.push_back(link::typeName(c.body));
     if (std::holds_alternative<link::Resume>(c.body) && resumes_lost++ < lose_resumes) return;
+    if (link::typeName(c.body) == lose_states_from) lose_states = true;
     if (const auto* m = std::get_if<link::LegMove>(&c.body)) {
       sunk_m[std::size_t(m->leg)] = sink_next_leg_m;
       if (!keep_sinking) sink_next_leg_m = 0.0;
@@ -53,7 +58,9 @@ class CountingLink : public link::Link {
         joints[std::size_t(leg->leg)] = leg->joints;
       }
     std::erase_if(in, [&](const link::Telemetry& m) {
-      return std::holds_alternative<sensor::RangeImage>(m.body) && images_lost++ < lose_images;
+      return (std::holds_alternative<sensor::RangeImage>(m.body) && images_lost++ < lose_images) ||
+             (lose_states && (std::holds_alternative<link::LegState>(m.body) ||
+                              std::holds_alternative<link::BodyState>(m.body)));
     });
     return in;
   }
@@ -75,6 +82,10 @@ class CountingLink : public link::Link {
   int images_lost = 0;
   int lose_resumes = 0;  // the first this many Resumes never reach the rover
   int resumes_lost = 0;
+  // From the first command of this type on, no leg or body state arrives.
+  std::string lose_states_from;
+  bool lose_states = false;
+  std::atomic<double> move_s{0.0};  // the simulator's time for the last move it carried out
 
  private:
   static rover::SimulatedRoverOptions options() {
@@ -780,6 +791,40 @@ TEST(Executive, ANackSuspendsTheStepWithTheRoversReason) {
   EXPECT_EQ(executive.suspendedBecause(), executive.events().back().what);
   ASSERT_EQ(heard.size(), executive.events().size());
   EXPECT_EQ(heard.back(), executive.events().back().what);
+}
+
+// A rover that takes a move on and then never reports where it left the
+// legs would keep the step executing for good: the console holds it after
+// the move's modelled time, stretched, plus the ack timeout.
+void expectHeldWhenTheOutcomeOfA(const std::string& move) {
+  ExecutiveOptions o;
+  o.steps = 3;
+  o.ack_timeout_s = 1.0;
+  o.move_time_factor = 0.1;  // the simulator moves at once; keep the wait short
+  Console c(o);
+  c.link.lose_states_from = move;
+  c.walkUntilItStops();
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  EXPECT_EQ(c.link.count("Hold"), 1);
+  const std::string& why = c.executive.suspendedBecause();
+  ASSERT_NE(why.find("did not report the outcome of the " + move), std::string::npos) << why;
+  EXPECT_EQ(why.find("Hold sent"), 0u) << why;
+  // The model's time covers the simulator's (a leg's by lowering to the
+  // lowest reach at most), and the console waited that long, stretched,
+  // after the ack.
+  const double modelled = std::stod(why.substr(why.find("the move takes ") + 15));
+  const double limit = std::stod(why.substr(why.find(") within ") + 9));
+  EXPECT_GE(modelled, 0.995 * c.link.move_s.load()) << why;  // printed to 3 digits
+  EXPECT_LE(modelled, c.link.move_s.load() + 3.0 / 0.15) << why;
+  EXPECT_NEAR(limit, 0.1 * modelled + 1.0, 0.01 * limit) << why;
+}
+
+TEST(Executive, ABodyMoveWhoseOutcomeNeverComesIsHeldAfterItsModelledTime) {
+  expectHeldWhenTheOutcomeOfA("BodyMove");
+}
+
+TEST(Executive, ALegMoveWhoseOutcomeNeverComesIsHeldAfterItsModelledTime) {
+  expectHeldWhenTheOutcomeOfA("LegMove");
 }
 
 // A two-step walk on auto-approve over a link that loses the first `lost`

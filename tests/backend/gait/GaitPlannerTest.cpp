@@ -42,6 +42,21 @@ TEST(RoverModel, JointsAndFootAreInverse) {
   }
 }
 
+// The slowest joint sets a segment's time; a rotation goes the short way.
+TEST(RoverModel, MoveTimesFollowTheJointAndBodySpeeds) {
+  RoverModel m;
+  m.rotation_speed_rad_s = 0.1, m.extension_speed_m_s = 0.2, m.vertical_speed_m_s = 0.25;
+  EXPECT_DOUBLE_EQ(m.legSegmentS({0.0, 1.0, 2.0}, {0.0, 1.6, 2.0}), 3.0);  // 0.6 m / 0.2
+  EXPECT_DOUBLE_EQ(m.legSegmentS({0.0, 1.0, 2.0}, {0.0, 1.2, 3.0}), 4.0);  // 1 m / 0.25
+  EXPECT_NEAR(m.legSegmentS({3.0, 1.0, 2.0}, {-3.0, 1.0, 2.0}), 10 * (2 * M_PI - 6.0), 1e-9);
+  m.body_speed_m_s = 0.05, m.body_accel_m_s2 = 0.01, m.body_turn_speed_rad_s = 0.02;
+  // Cruise reached after 0.25 m: 1 m at 0.05 m/s plus 5 s of ramps.
+  EXPECT_DOUBLE_EQ(m.bodyMoveS(1.0, 0.0, 0.0), 25.0);
+  EXPECT_DOUBLE_EQ(m.bodyMoveS(0.04, 0.0, 0.0), 4.0);  // a triangle: 2 sqrt(0.04 / 0.01)
+  EXPECT_DOUBLE_EQ(m.bodyMoveS(0.0, -0.5, 0.0), 0.5 / 0.02 + 2.0);
+  EXPECT_DOUBLE_EQ(m.bodyMoveS(0.0, 0.0, -2.0), 8.0);
+}
+
 // The report's figures the model is built to: walking width 4.5 m (the
 // tread), and a body advance of about 3.9 m at that tread (the reach).
 TEST(RoverModel, ConfigurationMatchesTheReportsFigures) {
