@@ -368,13 +368,19 @@ void GroundStation::refreshTelemetry() {
 
 // What a delay hides: how old the rover's state in view is (its own clock,
 // UTC like the ground's), the command round trip, the commands not yet
-// answered, and who holds command authority.
+// answered, the move under way, and who holds command authority.
 QString GroundStation::linkFigures(const WalkState& state, double now_s) const {
   QStringList parts;
   if (state.report.body)
     parts << tr("state %1 s old").arg(now_s - state.report.body_time_s, 0, 'f', 1);
   if (state.round_trip_s) parts << tr("round trip %1 ms").arg(*state.round_trip_s * 1e3, 0, 'f', 0);
   parts << tr("%1 in flight").arg(state.commands_in_flight);
+  if (const auto& m = state.move_under_way)
+    parts << tr("%1 under way %2 s (about %3 s; held after %4 s)")
+                 .arg(QString::fromStdString(m->what))
+                 .arg(now_s - m->acknowledged_s, 0, 'f', 0)
+                 .arg(m->modelled_s, 0, 'f', 0)
+                 .arg(m->due_s - m->acknowledged_s, 0, 'f', 0);
   const auto who = [&](const std::string& console) {
     return console == state.console ? tr("this console") : QString::fromStdString(console);
   };

@@ -246,6 +246,7 @@ class WalkWorker : public QObject {
     state->last_heard_s = health_.lastHeardS();
     state->round_trip_s = executive_->roundTripS();
     state->commands_in_flight = table_.awaiting();
+    state->move_under_way = executive_->moveUnderWay();
     state->authority = table_.authority();
     state->authority_request = table_.authorityRequest();
     state->console = signer_->console();

@@ -39,6 +39,8 @@ struct WalkState {
   // authority ("alice@..."; this console is `console`) and who asks for it.
   std::optional<double> round_trip_s;
   std::size_t commands_in_flight = 0;
+  // The move the rover has taken on and not yet reported the outcome of.
+  std::optional<executive::MoveUnderWay> move_under_way;
   std::string authority, authority_request, console;
 };
 

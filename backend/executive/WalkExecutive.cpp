@@ -232,8 +232,8 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
   if (phase_ == Phase::kExecuting && move_acked_at_s_) {
     if (report_.reportedSince(*move_acked_at_s_))
       afterMove(now_s);
-    else if (now_s > move_due_s_)
-      suspend(now_s, move_late_, true);
+    else if (now_s > under_way_->due_s)
+      suspend(now_s, outcomeLate(), true);
   }
 }
 
@@ -324,15 +324,20 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, doub
 
 void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s) {
   move_acked_at_s_ = rover_time_s;
-  const double modelled = modelledSeconds(executing_->commands[next_command_ - 1]);
-  const double limit = opt_.move_time_factor * modelled + ackTimeoutS();
-  move_due_s_ = now_s + limit;
+  MoveUnderWay& m = under_way_.emplace();
+  m.what = awaiting_what_ + " " + std::to_string(sequence);
+  m.acknowledged_s = now_s;
+  m.modelled_s = modelledSeconds(executing_->commands[next_command_ - 1]);
+  m.due_s = now_s + opt_.move_time_factor * m.modelled_s + ackTimeoutS();
+}
+
+std::string WalkExecutive::outcomeLate() const {
   std::ostringstream why;
   why.precision(3);
-  why << "the rover did not report the outcome of the " << awaiting_what_ << " (sequence "
-      << sequence << ") within " << limit << " s of acknowledging it (the move takes " << modelled
-      << " s by the rover model)";
-  move_late_ = why.str();
+  why << "the rover did not report the outcome of " << under_way_->what << " within "
+      << under_way_->due_s - under_way_->acknowledged_s << " s of acknowledging it (the move takes "
+      << under_way_->modelled_s << " s by the rover model)";
+  return why.str();
 }
 
 // LTM builder and merger (cmu-1990): the scan's locus map over the part of
@@ -683,6 +688,7 @@ void WalkExecutive::liftFromWhereItStands(link::LegMove& move) const {
 // What the rover reports after a move, against the plan.
 void WalkExecutive::afterMove(double now_s) {
   move_acked_at_s_.reset();
+  under_way_.reset();
   const auto& m = ctx_.model;
   const double margin = gait::marginWithout(*reported_, m, -1);
   if (margin < 0) {
@@ -804,6 +810,7 @@ void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
     tasks_.suspend(step_task_, now_s, why);
   executing_.reset();
   awaiting_.reset();
+  under_way_.reset();
   ahead_.reset();
   gate_.withdraw();
   phase_ = Phase::kSuspended;

@@ -124,6 +124,14 @@ struct StepRecord {
   std::string reason;  // the plan's account of its body move: what stopped it
 };
 
+// A move the rover has acknowledged and not yet reported the outcome of.
+struct MoveUnderWay {
+  std::string what;           // "LegMove 12": its type and sequence
+  double acknowledged_s = 0;  // console time
+  double modelled_s = 0;      // its duration by the rover model
+  double due_s = 0;           // console time after which the walk is held
+};
+
 // Wall time the ground spent on a walk's perception and planning: the work
 // the rover's execution can hide when planning ahead.
 struct GroundWork {
@@ -194,6 +202,7 @@ class WalkExecutive {
   // awaited commands); none before the first.
   std::optional<double> roundTripS() const { return round_trip_s_; }
   double ackTimeoutS() const;
+  const std::optional<MoveUnderWay>& moveUnderWay() const { return under_way_; }
   // The seconds a command takes the rover by its model: a leg move from
   // the leg's reported joints through its waypoints and down to the
   // lowest reach (contact may come sooner), a body move on its velocity
@@ -229,6 +238,7 @@ class WalkExecutive {
   void onAck(const link::CommandAck& ack, double rover_time_s, double now_s);
   // From this acknowledgement on, the move's outcome is awaited, until a limit.
   void expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s);
+  std::string outcomeLate() const;
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
   void endHold(double now_s);
   void requestScan(double now_s);
@@ -311,8 +321,7 @@ class WalkExecutive {
   // The rover's time of the acknowledgement of the move under way: what it
   // reports from then on is the state after it.
   std::optional<double> move_acked_at_s_;
-  double move_due_s_ = 0.0;                      // console time by which its outcome must have come
-  std::string move_late_;                        // what to say if it has not
+  std::optional<MoveUnderWay> under_way_;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
   std::optional<std::size_t> scan_of_step_;      // the logged step the scan asked for ends
