@@ -377,7 +377,7 @@ QString GroundStation::linkFigures(const WalkState& state, double now_s) const {
   parts << tr("%1 in flight").arg(state.commands_in_flight);
   if (const auto& m = state.move_under_way)
     parts << tr("%1 under way %2 s (about %3 s; held after %4 s)")
-                 .arg(QString::fromStdString(m->what))
+                 .arg(QString::fromStdString(m->type))
                  .arg(now_s - m->acknowledged_s, 0, 'f', 0)
                  .arg(m->modelled_s, 0, 'f', 0)
                  .arg(m->due_s - m->acknowledged_s, 0, 'f', 0);

@@ -36,6 +36,7 @@ struct Args {
   std::string keys;
   int heartbeat_ms = 1000;
   double link_timeout_s = 3.0;
+  double time_scale = 0.0;
   double duration_s = 0.0;
   std::string family = "course";
   std::string dtm;
@@ -53,6 +54,7 @@ void run(const Args& a) {
   rover::SimulatedRoverOptions options;
   options.rover_id = a.rover_id;
   options.link_timeout_s = a.link_timeout_s;
+  options.time_scale = a.time_scale;
   options.started_s = started_s;
   rover::SimulatedGround ground;
   ground.family = *sim::parseFamily(a.family);  // checked against the families' names
@@ -113,6 +115,7 @@ void run(const Args& a) {
                               {"seed", a.seed},
                               {"terrain", a.dtm.empty() ? a.family : a.dtm},
                               {"link_timeout_s", a.link_timeout_s},
+                              {"time_scale", a.time_scale},
                               {"operators", options.operators.size()}}
             << std::endl;
   rover::runRoverLoop(rover, std::chrono::milliseconds(a.heartbeat_ms), io);
@@ -172,6 +175,12 @@ int main(int argc, char** argv) {
                  "hold (refuse motion until Resume) when no signed command or GroundHeartbeat has "
                  "come for this long [s]; 0: never")
       ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  app.add_option("--time-scale", a.time_scale,
+                 "wall seconds per second of the rover model's motion: a move or scan is "
+                 "acknowledged at once and reports its outcome this much of its modelled time "
+                 "later (1: the Ambler's own speeds; 0: at once)")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   app.add_option("--duration", a.duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)")
       ->check(CLI::Range(0.0, 1e6))

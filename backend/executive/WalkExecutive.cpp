@@ -325,7 +325,8 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, doub
 void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s) {
   move_acked_at_s_ = rover_time_s;
   MoveUnderWay& m = under_way_.emplace();
-  m.what = awaiting_what_ + " " + std::to_string(sequence);
+  m.type = awaiting_what_;
+  m.sequence = sequence;
   m.acknowledged_s = now_s;
   m.modelled_s = modelledSeconds(executing_->commands[next_command_ - 1]);
   m.due_s = now_s + opt_.move_time_factor * m.modelled_s + ackTimeoutS();
@@ -334,9 +335,10 @@ void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, d
 std::string WalkExecutive::outcomeLate() const {
   std::ostringstream why;
   why.precision(3);
-  why << "the rover did not report the outcome of " << under_way_->what << " within "
-      << under_way_->due_s - under_way_->acknowledged_s << " s of acknowledging it (the move takes "
-      << under_way_->modelled_s << " s by the rover model)";
+  why << "the rover did not report the outcome of " << under_way_->type << " "
+      << under_way_->sequence << " within " << under_way_->due_s - under_way_->acknowledged_s
+      << " s of acknowledging it (the move takes " << under_way_->modelled_s
+      << " s by the rover model)";
   return why.str();
 }
 

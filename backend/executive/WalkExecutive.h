@@ -126,7 +126,8 @@ struct StepRecord {
 
 // A move the rover has acknowledged and not yet reported the outcome of.
 struct MoveUnderWay {
-  std::string what;           // "LegMove 12": its type and sequence
+  std::string type;  // "LegMove"
+  std::uint64_t sequence = 0;
   double acknowledged_s = 0;  // console time
   double modelled_s = 0;      // its duration by the rover model
   double due_s = 0;           // console time after which the walk is held

@@ -26,9 +26,13 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
   for (const auto& t : rover.state(now_s())) io.publish(t);
   auto next_heartbeat = Clock::now();
   while (!io.stopping()) {
-    // Short waits, so that the link watchdog holds soon after its timeout.
+    // Short waits, so that the link watchdog holds soon after its timeout,
+    // and none past the moment a move's outcome is due.
+    const auto until_due =
+        std::chrono::duration<double>(std::min(rover.outcomeDueS() - now_s(), 1.0));
     const auto wait = std::clamp(
-        std::chrono::duration_cast<std::chrono::milliseconds>(next_heartbeat - Clock::now()),
+        std::chrono::ceil<std::chrono::milliseconds>(std::min(
+            next_heartbeat - Clock::now(), std::chrono::duration_cast<Clock::duration>(until_due))),
         std::chrono::milliseconds(0), std::chrono::milliseconds(50));
     for (const auto& in : io.receive(wait)) {
       const auto out = in.malformed.empty() ? rover.handle(in.command, now_s())
@@ -37,6 +41,7 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
       if (io.note) noteOutcome(in.command, out, rover, io.note);
       for (const auto& t : out) io.publish(t);
     }
+    for (const auto& t : rover.finished(now_s())) io.publish(t);
     for (const auto& t : rover.watchLink(now_s())) {
       if (const auto* h = std::get_if<link::Heartbeat>(&t.body); h && io.note)
         io.note("holds: " + h->hold_reason);

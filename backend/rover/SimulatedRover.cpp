@@ -1,9 +1,7 @@
 #include "rover/SimulatedRover.h"
 
 #include <algorithm>
-#include <chrono>
 #include <sstream>
-#include <thread>
 
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
@@ -131,25 +129,29 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
                      std::holds_alternative<link::BodyMove>(command.body) ||
                      std::holds_alternative<link::Grasp>(command.body);
   if (moves && holding()) reason = "holding (" + holding_ + "): send Resume first";
+  if ((moves || std::holds_alternative<link::AcquireScan>(command.body)) && !outcome_.empty())
+    reason = "busy: " + under_way_ + " under way";
   if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait).why();
   std::vector<link::Telemetry> changes;
-  if (reason.empty()) reason = execute(command, now_s, changes);
+  const double busy_before = busy_s_;
+  if (reason.empty()) reason = carryOut(command, now_s, changes);
   std::vector<link::Telemetry> out{
       message(now_s, link::CommandAck{command.operator_id, command.console_id, command.sequence,
                                       reason.empty(), reason})};
+  if (reason.empty() && options_.time_scale > 0 && busy_s_ > busy_before) {
+    outcome_ = std::move(changes);
+    under_way_ = link::typeName(command.body) + " " + std::to_string(command.sequence);
+    outcome_due_s_ = now_s + (busy_s_ - busy_before) * options_.time_scale;
+    return out;
+  }
   out.insert(out.end(), changes.begin(), changes.end());
   return out;
 }
 
-// Empty, or why the command was not carried out.
-std::string SimulatedRover::execute(const link::Command& command, double now_s,
-                                    std::vector<link::Telemetry>& out) {
-  const double busy_before = busy_s_;
-  std::string why = carryOut(command, now_s, out);
-  if (options_.time_scale > 0 && busy_s_ > busy_before)
-    std::this_thread::sleep_for(
-        std::chrono::duration<double>((busy_s_ - busy_before) * options_.time_scale));
-  return why;
+std::vector<link::Telemetry> SimulatedRover::finished(double now_s) {
+  if (outcome_.empty() || now_s < outcome_due_s_) return {};
+  for (auto& t : outcome_) t.time_s = now_s;
+  return std::exchange(outcome_, {});
 }
 
 std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
@@ -172,8 +174,8 @@ std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
       std::holds_alternative<link::HandOver>(body))
     return {};
   if (std::holds_alternative<link::Hold>(body)) {
-    // Every move completes before the next command is read, so holding is
-    // refusing the next motion. A hold already in force keeps its reason:
+    // Every move completes (a move under way carries on to its end), so
+    // holding is refusing the next motion. A hold already in force keeps its reason:
     // the first is what the operator needs to know.
     if (!holding()) holding_ = "Hold from " + command.operator_id;
     out.push_back(heartbeat(now_s));

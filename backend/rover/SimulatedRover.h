@@ -5,6 +5,7 @@
 // simulated Ambler and answers with an acknowledgement and the state that
 // changed. Behind the in-process link and behind ambler-sim's DDS endpoint.
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -56,8 +57,9 @@ struct SimulatedRoverOptions {
   // When the rover's link started (UTC): commands signed before it are
   // refused. Default: when the SimulatedRover is made.
   std::optional<double> started_s;
-  // Wall seconds per simulated second: moves and scans take this long
-  // (their modelled duration times it) before they are answered; 0: at once.
+  // Wall seconds per simulated second. A move or a scan is acknowledged
+  // when taken on and its outcome (states, image) comes its modelled
+  // duration times this later (finished()); 0: all at once.
   double time_scale = 0.0;
 };
 
@@ -68,8 +70,15 @@ class SimulatedRover {
 
   // The acknowledgement first (a NACK with the reason, and nothing else, if
   // refused), then what changed: leg and body states after a move, the range
-  // image after AcquireScan.
+  // image after AcquireScan; with a time scale, what changed comes from
+  // finished() once the move or scan has taken its time, and until then
+  // other moves and scans are refused (Hold, Resume and heartbeats are not).
   std::vector<link::Telemetry> handle(const link::Command& command, double now_s);
+  // The outcome of the move or scan under way once its time is up (time
+  // scale above 0), stamped now; else nothing.
+  std::vector<link::Telemetry> finished(double now_s);
+  // When that outcome is due (UTC); infinity when nothing is under way.
+  double outcomeDueS() const { return outcome_.empty() ? INFINITY : outcome_due_s_; }
   // The NACK for a command refused before it could be read.
   std::vector<link::Telemetry> refuse(const link::Command& command, const std::string& reason,
                                       double now_s) const;
@@ -101,8 +110,6 @@ class SimulatedRover {
   link::Telemetry message(double now_s, link::TelemetryBody body) const;
   std::vector<link::Telemetry> report(double now_s,
                                       const std::array<sim::LegState, gait::kLegCount>& legs) const;
-  std::string execute(const link::Command& command, double now_s,
-                      std::vector<link::Telemetry>& out);
   std::string carryOut(const link::Command& command, double now_s,
                        std::vector<link::Telemetry>& out);
 
@@ -119,6 +126,11 @@ class SimulatedRover {
   double delay_s_ = 0.0;                // its one-way delay, smoothed, rising at once
   sim::MoveReport last_move_;
   double busy_s_ = 0.0;
+  // The outcome of the move or scan under way (time scale above 0), what
+  // it was, and when it is due (UTC).
+  std::vector<link::Telemetry> outcome_;
+  std::string under_way_;
+  double outcome_due_s_ = 0.0;
 };
 
 }  // namespace ambler::rover

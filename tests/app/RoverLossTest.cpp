@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <QApplication>
+#include <QCheckBox>
 #include <QDir>
 #include <QLabel>
 #include <QPushButton>
@@ -30,13 +31,14 @@ using ambler::executive::Phase;
 
 namespace {
 
-// ambler-sim on `domain`, taking commands from the keys in `keys`.
-pid_t startSimulator(int domain, const std::string& keys) {
+// ambler-sim on `domain`, taking commands from the keys in `keys`, its
+// moves taking `time_scale` times their modelled time.
+pid_t startSimulator(int domain, const std::string& keys, const char* time_scale = "0") {
   const pid_t sim = ::fork();
   if (sim == 0) {
     const std::string d = std::to_string(domain);
     ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(), "--heartbeat-ms",
-            "200", "--duration", "120", static_cast<char*>(nullptr));
+            "200", "--time-scale", time_scale, "--duration", "120", static_cast<char*>(nullptr));
     ::_exit(127);
   }
   return sim;
@@ -63,7 +65,8 @@ std::string connectAsAlice(ambler::gs::GroundStation& station, int domain,
   choice.domain = domain;
   choice.key_file = dir.filePath("alice.key");
   const auto refusal = station.connectTo(choice);
-  if (!refusal.refused()) station.session()->setAutoApprove(true);
+  // As the operator does: the panel's switch, so that its banner says so.
+  if (!refusal.refused()) station.window().approvalPanel()->autoApproveSwitch()->setChecked(true);
   return refusal.why();
 }
 
@@ -144,6 +147,46 @@ class RoverLossTest : public QObject {
     const int scan_row = firstRow(table, back_row, {"AcquireScan"});
     QVERIFY(scan_row > back_row);
     QVERIFY(scan_row < firstRow(table, back_row, {"LegMove", "BodyMove"}));
+    ::kill(sim, SIGTERM);
+    ::waitpid(sim, nullptr, 0);
+  }
+
+  // A rover whose moves take the Ambler's own time: the status bar shows
+  // the move under way, and HOLD suspends the walk while it runs.
+  void aMoveUnderWayShowsInTheStatusBar() {
+    QTemporaryDir dir;
+    const std::string folder = dir.path().toStdString();
+    const ambler::link::OperatorKey alice{"alice", std::vector<std::uint8_t>(32, 7)};
+    ambler::link::writeOperatorKey(folder + "/alice.key", alice);
+    std::ofstream(folder + "/operators.json")
+        << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
+        << ambler::link::keyHex(alice) << "\"}]}";
+    const int domain = 20 + int((::getpid() + 53) % 200);
+    const pid_t sim = startSimulator(domain, folder + "/operators.json", "1");
+
+    ambler::gs::GroundStation station(options(dir.path()));
+    station.window().resize(1400, 900);
+    QCOMPARE(connectAsAlice(station, domain, dir), std::string());
+    station.startWalk(1);
+    const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
+    QTRY_VERIFY_WITH_TIMEOUT(walk().move_under_way.has_value(), 60000);
+    const std::string type = walk().move_under_way->type;
+    QString shown;
+    QTRY_VERIFY_WITH_TIMEOUT(
+        [&] {
+          for (const auto* label : station.window().findChildren<QLabel*>())
+            if (label->text().contains(" under way ")) shown = label->text();
+          return !shown.isEmpty();
+        }(),
+        5000);
+    QVERIFY2(shown.contains(QString::fromStdString(type) + " under way"), qPrintable(shown));
+    QVERIFY2(shown.contains("held after"), qPrintable(shown));
+    const QDir shots(AMBLER_SCREENSHOT_DIR);
+    QVERIFY(shots.mkpath("."));
+    QVERIFY(station.window().grab().save(shots.filePath("move-under-way.png")));
+    station.window().holdAction()->trigger();
+    QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kSuspended, 5000);
+    QVERIFY(!walk().move_under_way.has_value());
     ::kill(sim, SIGTERM);
     ::waitpid(sim, nullptr, 0);
   }

@@ -51,6 +51,31 @@ TEST(SimulatedRover, ASignedBodyMoveIsExecutedAndReported) {
   EXPECT_EQ(out.back().rover_id, 2u);
 }
 
+// With a time scale a move is acknowledged when it is taken on and its
+// outcome comes once its modelled time, scaled, has passed; meanwhile other
+// moves and scans are refused, a Hold is not.
+TEST(SimulatedRover, WithATimeScaleAMoveReportsItsOutcomeWhenItsTimeIsUp) {
+  auto o = options();
+  o.time_scale = 0.5;
+  SimulatedRover rover(simulator(), o);
+  link::CommandSigner signer(alice());
+  auto out = rover.handle(command(link::BodyMove{0.0, 0.3, 0.0, 0.0}, &signer), 1.0);
+  ASSERT_EQ(out.size(), 1u);
+  ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  const double due = 1.0 + 0.5 * rover.lastMove().duration_s;
+  EXPECT_GT(due, 5.0);  // 0.3 m at 2 m/min
+  EXPECT_TRUE(rover.finished(due - 0.01).empty());
+  out = rover.handle(command(link::AcquireScan{}, &signer), 1.5);
+  EXPECT_EQ(ackOf(out).reason, "busy: BodyMove 1 under way");
+  out = rover.handle(command(link::Hold{}, &signer), 2.0);
+  EXPECT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  const auto outcome = rover.finished(due);
+  ASSERT_EQ(outcome.size(), gait::kLegCount + 1u);  // six legs, body
+  for (const auto& t : outcome) EXPECT_EQ(t.time_s, due);
+  EXPECT_TRUE(std::holds_alternative<link::BodyState>(outcome.back().body));
+  EXPECT_TRUE(rover.finished(due + 100).empty());  // once
+}
+
 TEST(SimulatedRover, RefusedCommandsMoveNothingAndSayWhy) {
   SimulatedRover rover(simulator(), options());
   link::CommandSigner signer(alice());
