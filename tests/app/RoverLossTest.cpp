@@ -55,6 +55,21 @@ int firstRow(const ambler::widgets::CommandLogView& table, int from, const QStri
 
 using ambler::gs::test::options;
 
+// Each operator's key file in `folder` (<operator>.key) and the rover's
+// operators.json naming them all; returns the latter's path.
+std::string writeKeys(const std::string& folder,
+                      const std::vector<ambler::link::OperatorKey>& keys) {
+  std::ofstream operators(folder + "/operators.json");
+  operators << "{\"operators\": [";
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    ambler::link::writeOperatorKey(folder + "/" + keys[i].operator_id + ".key", keys[i]);
+    operators << (i ? ", " : "") << "{\"operator\": \"" << keys[i].operator_id
+              << "\", \"key_hex\": \"" << ambler::link::keyHex(keys[i]) << "\"}";
+  }
+  operators << "]}";
+  return folder + "/operators.json";
+}
+
 // The station shown, connected over DDS with alice's key in `dir`,
 // auto-approving; empty, or why it could not connect.
 std::string connectAsAlice(ambler::gs::GroundStation& station, int domain,
@@ -82,12 +97,9 @@ class RoverLossTest : public QObject {
     QTemporaryDir dir;
     const std::string folder = dir.path().toStdString();
     const ambler::link::OperatorKey alice{"alice", std::vector<std::uint8_t>(32, 7)};
-    ambler::link::writeOperatorKey(folder + "/alice.key", alice);
-    std::ofstream(folder + "/operators.json")
-        << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
-        << ambler::link::keyHex(alice) << "\"}]}";
+    const std::string keys = writeKeys(folder, {alice});
     const int domain = 20 + int(::getpid() % 200);
-    pid_t sim = startSimulator(domain, folder + "/operators.json");
+    pid_t sim = startSimulator(domain, keys);
 
     ambler::gs::GroundStation station(options(dir.path()));
     station.window().resize(1400, 900);
@@ -137,7 +149,7 @@ class RoverLossTest : public QObject {
 
     // The rover comes back: once heard, Resume scans and plans afresh, so
     // the first move after the outage follows a scan taken after it.
-    sim = startSimulator(domain, folder + "/operators.json");
+    sim = startSimulator(domain, keys);
     QTRY_VERIFY_WITH_TIMEOUT(!walk().link_lost.has_value(), 30000);
     const int back_row = firstRow(table, lost_row, {"link back"});
     QVERIFY(back_row > lost_row);
@@ -157,12 +169,9 @@ class RoverLossTest : public QObject {
     QTemporaryDir dir;
     const std::string folder = dir.path().toStdString();
     const ambler::link::OperatorKey alice{"alice", std::vector<std::uint8_t>(32, 7)};
-    ambler::link::writeOperatorKey(folder + "/alice.key", alice);
-    std::ofstream(folder + "/operators.json")
-        << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
-        << ambler::link::keyHex(alice) << "\"}]}";
+    const std::string keys = writeKeys(folder, {alice});
     const int domain = 20 + int((::getpid() + 53) % 200);
-    const pid_t sim = startSimulator(domain, folder + "/operators.json", "1");
+    const pid_t sim = startSimulator(domain, keys, "1");
 
     ambler::gs::GroundStation station(options(dir.path()));
     station.window().resize(1400, 900);
@@ -199,14 +208,9 @@ class RoverLossTest : public QObject {
     const std::string folder = dir.path().toStdString();
     const ambler::link::OperatorKey alice{"alice", std::vector<std::uint8_t>(32, 7)},
         bob{"bob", std::vector<std::uint8_t>(32, 8)};
-    ambler::link::writeOperatorKey(folder + "/alice.key", alice);
-    ambler::link::writeOperatorKey(folder + "/bob.key", bob);
-    std::ofstream(folder + "/operators.json")
-        << "{\"operators\": [{\"operator\": \"alice\", \"key_hex\": \""
-        << ambler::link::keyHex(alice) << "\"}, {\"operator\": \"bob\", \"key_hex\": \""
-        << ambler::link::keyHex(bob) << "\"}]}";
+    const std::string keys = writeKeys(folder, {alice, bob});
     const int domain = 20 + int((::getpid() + 97) % 200);
-    const pid_t sim = startSimulator(domain, folder + "/operators.json");
+    const pid_t sim = startSimulator(domain, keys);
 
     ambler::gs::GroundStation station(options(dir.path()));
     QCOMPARE(connectAsAlice(station, domain, dir), std::string());
