@@ -129,7 +129,8 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
                      std::holds_alternative<link::BodyMove>(command.body) ||
                      std::holds_alternative<link::Grasp>(command.body);
   if (moves && holding()) reason = "holding (" + holding_ + "): send Resume first";
-  if ((moves || std::holds_alternative<link::AcquireScan>(command.body)) && !outcome_.empty())
+  if (reason.empty() && (moves || std::holds_alternative<link::AcquireScan>(command.body)) &&
+      !outcome_.empty())
     reason = "busy: " + under_way_ + " under way";
   if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait).why();
   std::vector<link::Telemetry> changes;
