@@ -184,7 +184,10 @@ std::string SimulatedRover::carryOut(const link::Command& command, double now_s,
   }
   if (std::holds_alternative<link::Resume>(body)) {
     holding_.clear();
-    out.push_back(heartbeat(now_s));  // and the whole state, for a console that joins now
+    out.push_back(heartbeat(now_s));  // and the whole state, for a console that joins now,
+    // but not before the outcome of a move under way: it would report the
+    // move's end before its time.
+    if (!outcome_.empty()) return {};
   } else if (const auto* m = std::get_if<link::LegMove>(&body)) {
     last_move_ = world_.rover().executeLeg({m->leg, m->waypoints});
     busy_s_ += last_move_.duration_s;

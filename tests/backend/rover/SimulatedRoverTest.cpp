@@ -69,6 +69,10 @@ TEST(SimulatedRover, WithATimeScaleAMoveReportsItsOutcomeWhenItsTimeIsUp) {
   EXPECT_EQ(ackOf(out).reason, "busy: BodyMove 1 under way");
   out = rover.handle(command(link::Hold{}, &signer), 2.0);
   EXPECT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  out = rover.handle(command(link::Resume{}, &signer), 2.5);
+  ASSERT_EQ(out.size(), 2u);  // the ack and a heartbeat: the state comes with the outcome
+  EXPECT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  EXPECT_FALSE(std::get<link::Heartbeat>(out[1].body).holding);
   const auto outcome = rover.finished(due);
   ASSERT_EQ(outcome.size(), gait::kLegCount + 1u);  // six legs, body
   for (const auto& t : outcome) EXPECT_EQ(t.time_s, due);
