@@ -1,5 +1,6 @@
 #include "rendering/SceneBuilders.h"
 
+#include <fontconfig/fontconfig.h>
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "rendering/ColorMap.h"
 
@@ -115,6 +117,40 @@ vtkSmartPointer<vtkActor> makePointCloud(const std::vector<Eigen::Vector3f>& pts
   return actor;
 }
 
+namespace {
+
+// The file of the desktop's sans-serif font as fontconfig matches it, the
+// font Qt draws the rest of the GUI in; empty when there is none. VTK's
+// built-in Arial draws '[' as '(': the bars' units read "(m)" beside the
+// Qt bars' "[m]".
+const std::string& sansFontFile() {
+  static const std::string file = [] {
+    std::string out;
+    FcPattern* pattern = FcNameParse(reinterpret_cast<const FcChar8*>("sans-serif"));
+    if (!pattern) return out;
+    FcConfigSubstitute(nullptr, pattern, FcMatchPattern);
+    FcDefaultSubstitute(pattern);
+    FcResult result = FcResultNoMatch;
+    if (FcPattern* match = FcFontMatch(nullptr, pattern, &result)) {
+      FcChar8* path = nullptr;
+      if (FcPatternGetString(match, FC_FILE, 0, &path) == FcResultMatch)
+        out = reinterpret_cast<const char*>(path);
+      FcPatternDestroy(match);
+    }
+    FcPatternDestroy(pattern);
+    return out;
+  }();
+  return file;
+}
+
+void useSansFont(vtkTextProperty* text) {
+  if (sansFontFile().empty()) return;
+  text->SetFontFamily(VTK_FONT_FILE);
+  text->SetFontFile(sansFontFile().c_str());
+}
+
+}  // namespace
+
 vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std::string& title,
                                                 double pixel_ratio) {
   auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
@@ -137,6 +173,8 @@ vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std
   bar->GetTitleTextProperty()->ItalicOff();
   bar->GetLabelTextProperty()->SetFontSize(int(12 * pixel_ratio));
   bar->GetLabelTextProperty()->ItalicOff();
+  useSansFont(bar->GetTitleTextProperty());
+  useSansFont(bar->GetLabelTextProperty());
   bar->UnconstrainedFontSizeOn();
   return bar;
 }

@@ -19,8 +19,9 @@ PACKAGES=(
   # real terrain for the mapping tests: USGS's Jacksboro fault DEM
   # (docs/mapping.md), shipped as matplotlib's sample data
   python-matplotlib-data
-  # running the GUI and its tests without a monitor
-  xvfb xauth libgl1-mesa-dri
+  # running the GUI and its tests without a monitor; the 3-D views' text
+  # in the GUI's own font (fontconfig finds it)
+  xvfb xauth libgl1-mesa-dri libfontconfig-dev fonts-dejavu-core
   # the network bench's namespaces and veth pairs (tests/network)
   iproute2
 )
