@@ -229,8 +229,8 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
       suspend(now_s, "step rejected by the operator", false);
     }
   }
-  if (phase_ == Phase::kExecuting && move_acked_at_s_) {
-    if (report_.reportedSince(*move_acked_at_s_))
+  if (phase_ == Phase::kExecuting && under_way_) {
+    if (report_.reportedSince(under_way_->rover_acknowledged_s))
       afterMove(now_s);
     else if (now_s > under_way_->due_s)
       suspend(now_s, outcomeLate(), true);
@@ -323,11 +323,11 @@ void WalkExecutive::onAck(const link::CommandAck& ack, double rover_time_s, doub
 }
 
 void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, double now_s) {
-  move_acked_at_s_ = rover_time_s;
   MoveUnderWay& m = under_way_.emplace();
   m.type = awaiting_what_;
   m.sequence = sequence;
   m.acknowledged_s = now_s;
+  m.rover_acknowledged_s = rover_time_s;
   m.modelled_s = modelledSeconds(executing_->commands[next_command_ - 1]);
   m.due_s = now_s + opt_.move_time_factor * m.modelled_s + ackTimeoutS();
 }
@@ -667,7 +667,7 @@ void WalkExecutive::startExecuting(StepProposal proposal, double now_s) {
 
 void WalkExecutive::sendNext(double now_s) {
   tasks_.start(command_tasks_[next_command_], now_s);
-  move_acked_at_s_.reset();
+  under_way_.reset();
   if (auto* move = std::get_if<link::LegMove>(&executing_->commands[next_command_]))
     liftFromWhereItStands(*move);
   awaiting_ = send(executing_->commands[next_command_], now_s);
@@ -689,7 +689,6 @@ void WalkExecutive::liftFromWhereItStands(link::LegMove& move) const {
 
 // What the rover reports after a move, against the plan.
 void WalkExecutive::afterMove(double now_s) {
-  move_acked_at_s_.reset();
   under_way_.reset();
   const auto& m = ctx_.model;
   const double margin = gait::marginWithout(*reported_, m, -1);

@@ -129,6 +129,9 @@ struct MoveUnderWay {
   std::string type;  // "LegMove"
   std::uint64_t sequence = 0;
   double acknowledged_s = 0;  // console time
+  // Rover time of the acknowledgement: what the rover reports from then on
+  // is the state after the move.
+  double rover_acknowledged_s = 0;
   double modelled_s = 0;      // its duration by the rover model
   double due_s = 0;           // console time after which the walk is held
 };
@@ -319,9 +322,6 @@ class WalkExecutive {
   std::string suspended_because_;
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
   double resumed_at_s_ = -1e300;         // rover time of the acknowledgement that ended it
-  // The rover's time of the acknowledgement of the move under way: what it
-  // reports from then on is the state after it.
-  std::optional<double> move_acked_at_s_;
   std::optional<MoveUnderWay> under_way_;
   std::optional<sensor::RangeImage> scan_;       // arrived, not yet mapped
   std::optional<sensor::RangeImage> unmapped_;   // its step went out first (planned ahead)
