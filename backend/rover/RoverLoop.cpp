@@ -1,6 +1,8 @@
 #include "rover/RoverLoop.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 
 namespace ambler::rover {
 
@@ -28,12 +30,12 @@ void runRoverLoop(SimulatedRover& rover, std::chrono::milliseconds heartbeat_per
   while (!io.stopping()) {
     // Short waits, so that the link watchdog holds soon after its timeout,
     // and none past the moment a move's outcome is due.
-    const auto until_due =
-        std::chrono::duration<double>(std::min(rover.outcomeDueS() - now_s(), 1.0));
-    const auto wait = std::clamp(
-        std::chrono::ceil<std::chrono::milliseconds>(std::min(
-            next_heartbeat - Clock::now(), std::chrono::duration_cast<Clock::duration>(until_due))),
-        std::chrono::milliseconds(0), std::chrono::milliseconds(50));
+    using std::chrono::milliseconds;
+    const auto to_heartbeat = std::chrono::ceil<milliseconds>(next_heartbeat - Clock::now());
+    const auto to_outcome =
+        milliseconds(std::int64_t(std::ceil(1e3 * std::min(rover.outcomeDueS() - now_s(), 1.0))));
+    const auto wait =
+        std::clamp(std::min(to_heartbeat, to_outcome), milliseconds(0), milliseconds(50));
     for (const auto& in : io.receive(wait)) {
       const auto out = in.malformed.empty() ? rover.handle(in.command, now_s())
                                             : rover.refuse(in.command, in.malformed, now_s());
