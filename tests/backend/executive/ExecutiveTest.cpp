@@ -839,7 +839,7 @@ void expectHeldWhenTheOutcomeOfA(const std::string& move) {
 TEST(Executive, AMoveThatTakesItsTimeIsUnderWayUntilItsOutcomeComes) {
   rover::SimulatedRoverOptions ro;
   ro.operators = {alice()};
-  ro.time_scale = 0.05;
+  ro.time_scale = 0.2;  // a body move about 2.5 s: longer than a poll mapping a scan
   rover::InProcessLink link(simulator(), ro, 200ms);
   link::CommandSigner signer(alice());
   ApprovalGate gate;
