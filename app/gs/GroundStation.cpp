@@ -375,12 +375,15 @@ QString GroundStation::linkFigures(const WalkState& state, double now_s) const {
     parts << tr("state %1 s old").arg(now_s - state.report.body_time_s, 0, 'f', 1);
   if (state.round_trip_s) parts << tr("round trip %1 ms").arg(*state.round_trip_s * 1e3, 0, 'f', 0);
   parts << tr("%1 in flight").arg(state.commands_in_flight);
+  // A suspended walk has held the rover already, which ends the move first.
   if (const auto& m = state.move_under_way)
-    parts << tr("%1 under way %2 s (about %3 s; held after %4 s)")
+    parts << tr("%1 under way %2 s (about %3 s%4)")
                  .arg(QString::fromStdString(m->type))
                  .arg(now_s - m->acknowledged_s, 0, 'f', 0)
                  .arg(m->modelled_s, 0, 'f', 0)
-                 .arg(m->due_s - m->acknowledged_s, 0, 'f', 0);
+                 .arg(state.phase == executive::Phase::kSuspended
+                          ? QString()
+                          : tr("; held after %1 s").arg(m->due_s - m->acknowledged_s, 0, 'f', 0));
   const auto who = [&](const std::string& console) {
     return console == state.console ? tr("this console") : QString::fromStdString(console);
   };
@@ -393,9 +396,10 @@ QString GroundStation::linkFigures(const WalkState& state, double now_s) const {
 
 void GroundStation::openLog(const QString& path) {
   if (opening_) return;  // one at a time
-  if (session_ && session_->state().phase == executive::Phase::kExecuting) {
-    window_.showError(tr("A step is executing: open the log once it has ended."));
-    emit replayFailed(tr("a step is executing"));
+  const auto phase = session_ ? session_->state().phase : executive::Phase::kIdle;
+  if (phase == executive::Phase::kExecuting || phase == executive::Phase::kAwaitingMoveEnd) {
+    window_.showError(tr("The rover is moving: open the log once the move has ended."));
+    emit replayFailed(tr("the rover is moving"));
     return;
   }
   opening_ = std::make_shared<Opening>();

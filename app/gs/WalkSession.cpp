@@ -164,7 +164,8 @@ class WalkWorker : public QObject {
       refusal = Refusal::because("this console does not hold command authority");
     else if (table_.authorityRequest().empty())
       refusal = Refusal::because("no console has asked for command authority");
-    else if (phase == executive::Phase::kExecuting || phase == executive::Phase::kScanning)
+    else if (phase == executive::Phase::kExecuting || phase == executive::Phase::kScanning ||
+             phase == executive::Phase::kAwaitingMoveEnd)
       refusal = Refusal::because("the walk is " + executive::phaseName(phase) +
                                  ": hand over once the step has ended");
     else

@@ -21,6 +21,10 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+std::string moveName(const MoveUnderWay& move) {
+  return move.type + " " + std::to_string(move.sequence);
+}
+
 }  // namespace
 
 std::string phaseName(Phase phase) {
@@ -35,6 +39,8 @@ std::string phaseName(Phase phase) {
       return "awaiting decision";
     case Phase::kExecuting:
       return "executing";
+    case Phase::kAwaitingMoveEnd:
+      return "waiting for the move under way to end";
     case Phase::kSuspended:
       return "suspended";
     case Phase::kDone:
@@ -79,6 +85,16 @@ void WalkExecutive::resume(double now_s) {
   early_contacts_ = late_contacts_ = 0;  // the operator asked for another try
   steps_without_advance_ = 0;
   window_from_ = step_log_.size();
+  if (under_way_) {
+    note(now_s, "resumed: the scan waits for the end of " + moveName(*under_way_) +
+                    ", under way on the rover");
+    phase_ = Phase::kAwaitingMoveEnd;
+    return;
+  }
+  scanAfterResume(now_s);
+}
+
+void WalkExecutive::scanAfterResume(double now_s) {
   if (steps_done_ >= opt_.steps) {
     note(now_s, "resumed: the closing scan again");
     requestClosingScan(now_s);
@@ -180,8 +196,8 @@ void WalkExecutive::poll(double now_s, std::chrono::milliseconds wait) {
   try {
     advance(messages, now_s);
   } catch (const std::exception& e) {
-    // What was under way is dropped with the suspension: the rover stops,
-    // and a resume scans and plans afresh from where it stands.
+    // The step is dropped with the suspension: the rover stops after the
+    // move under way, and a resume scans and plans afresh from there.
     suspend(now_s, std::string("ground software fault: ") + e.what(), true);
   }
 }
@@ -201,11 +217,14 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
   // silent. Not while the link is lost: each attempt would wait for it.
   if (!link_lost_ && now_s - last_sent_s_ >= opt_.heartbeat_period_s)
     send(link::GroundHeartbeat{}, now_s);
-  // Whatever was planned or under way before the outage is dropped: after
-  // it, the operator resumes and the step is scanned and planned afresh.
+  // The step planned or under way before the outage is dropped: after it,
+  // the operator resumes and the step is scanned and planned afresh.
   if (link_lost_ && phase_ != Phase::kSuspended && phase_ != Phase::kDone)
     suspend(now_s, "link lost: " + *link_lost_, false);
-  if (phase_ == Phase::kDone || phase_ == Phase::kSuspended) return;
+  if (phase_ == Phase::kDone || phase_ == Phase::kSuspended) {
+    followMoveWhileSuspended(now_s);
+    return;
+  }
   if (awaiting_ && now_s - sent_s_ > ackTimeoutS()) {
     std::ostringstream why;
     why.precision(3);
@@ -229,12 +248,34 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
       suspend(now_s, "step rejected by the operator", false);
     }
   }
-  if (phase_ == Phase::kExecuting && under_way_) {
-    if (report_.reportedSince(under_way_->rover_acknowledged_s))
+  if (under_way_ && (phase_ == Phase::kExecuting || phase_ == Phase::kAwaitingMoveEnd)) {
+    if (!report_.reportedSince(under_way_->rover_acknowledged_s)) {
+      if (now_s > under_way_->due_s) {
+        const std::string why = outcomeLate();
+        under_way_.reset();
+        suspend(now_s, why, true);
+      }
+    } else if (phase_ == Phase::kExecuting) {
       afterMove(now_s);
-    else if (now_s > under_way_->due_s)
-      suspend(now_s, outcomeLate(), true);
+    } else {
+      under_way_.reset();
+      scanAfterResume(now_s);
+    }
   }
+}
+
+// A hold stops the next motion, not the one under way (docs/dds.md §7): it
+// is followed to its end while the walk is suspended, so that a resume does
+// not send what the rover would refuse before then.
+void WalkExecutive::followMoveWhileSuspended(double now_s) {
+  if (!under_way_) return;
+  if (report_.reportedSince(under_way_->rover_acknowledged_s))
+    note(now_s, "the rover reported the state after " + moveName(*under_way_));
+  else if (now_s > under_way_->due_s)
+    note(now_s, outcomeLate());
+  else
+    return;
+  under_way_.reset();
 }
 
 void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
@@ -335,10 +376,9 @@ void WalkExecutive::expectOutcome(std::uint64_t sequence, double rover_time_s, d
 std::string WalkExecutive::outcomeLate() const {
   std::ostringstream why;
   why.precision(3);
-  why << "the rover did not report the outcome of " << under_way_->type << " "
-      << under_way_->sequence << " within " << under_way_->due_s - under_way_->acknowledged_s
-      << " s of acknowledging it (the move takes " << under_way_->modelled_s
-      << " s by the rover model)";
+  why << "the rover did not report the outcome of " << moveName(*under_way_) << " within "
+      << under_way_->due_s - under_way_->acknowledged_s << " s of acknowledging it (the move takes "
+      << under_way_->modelled_s << " s by the rover model)";
   return why.str();
 }
 
@@ -811,7 +851,6 @@ void WalkExecutive::suspend(double now_s, const std::string& why, bool hold) {
     tasks_.suspend(step_task_, now_s, why);
   executing_.reset();
   awaiting_.reset();
-  under_way_.reset();
   ahead_.reset();
   gate_.withdraw();
   phase_ = Phase::kSuspended;

@@ -96,6 +96,10 @@ enum class Phase {
   kScanning,
   kAwaitingDecision,
   kExecuting,
+  // Resumed while the move of a suspended step is still under way: a hold
+  // stops the next motion, not that one, and the rover takes nothing else
+  // on before its outcome.
+  kAwaitingMoveEnd,
   kSuspended,
   kDone
 };
@@ -180,11 +184,13 @@ class WalkExecutive {
   Refusal editFoothold(std::uint64_t proposal, const Eigen::Vector2d& xy,
                        const std::string& operator_id, double now_s);
   // After a suspension or a rejection: end the rover's hold if it holds,
-  // then scan and plan again from where the rover reports it is.
+  // then, once a move still under way has ended, scan and plan again from
+  // where the rover reports it is.
   void resume(double now_s);
   // The operator's stop: a signed Hold at once, whatever the walk is doing;
-  // a step under way is suspended and nothing more is sent. The rover stays
-  // still until a walk is started again (which ends the hold).
+  // a step under way is suspended and nothing more is sent. The rover ends
+  // the move under way, if any, and stays still until a resume or a new
+  // walk ends the hold.
   void hold(double now_s, const std::string& operator_id);
 
   Phase phase() const { return phase_; }
@@ -245,6 +251,8 @@ class WalkExecutive {
   std::string outcomeLate() const;
   void onRoverHeartbeat(const link::Heartbeat& heartbeat, double rover_time_s, double now_s);
   void endHold(double now_s);
+  void scanAfterResume(double now_s);
+  void followMoveWhileSuspended(double now_s);
   void requestScan(double now_s);
   void requestClosingScan(double now_s);
   void acquireScan(int parent_task, const std::string& name, double now_s);

@@ -193,9 +193,34 @@ class RoverLossTest : public QObject {
     const QDir shots(AMBLER_SCREENSHOT_DIR);
     QVERIFY(shots.mkpath("."));
     QVERIFY(station.window().grab().save(shots.filePath("move-under-way.png")));
+    // HOLD stops the next motion, not this one: the move stays in view, and
+    // Resume waits for its end before the scan, which the rover would refuse
+    // until then.
+    const std::uint64_t sequence = walk().move_under_way->sequence;
     station.window().holdAction()->trigger();
     QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kSuspended, 5000);
-    QVERIFY(!walk().move_under_way.has_value());
+    QVERIFY(walk().move_under_way.has_value());
+    QCOMPARE(walk().move_under_way->sequence, sequence);
+    QTRY_VERIFY_WITH_TIMEOUT(
+        [&] {
+          for (const auto* label : station.window().findChildren<QLabel*>())
+            if (label->text().contains(" under way ")) shown = label->text();
+          return !shown.contains("held after");
+        }(),
+        5000);
+    QVERIFY2(shown.contains(QString::fromStdString(type) + " under way"), qPrintable(shown));
+    auto& panel = *station.window().approvalPanel();
+    QTRY_VERIFY(panel.resumeButton()->isEnabled());
+    const auto& table = *station.window().commandLog();
+    const int resumed_row = table.rowCount();
+    QTest::mouseClick(panel.resumeButton(), Qt::LeftButton);
+    QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kAwaitingMoveEnd, 5000);
+    QTest::qWait(300);  // the panel and status bar follow
+    QVERIFY(station.window().grab().save(shots.filePath("resumed-during-move.png")));
+    QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kExecuting, 90000);
+    for (int row = resumed_row; row < table.rowCount(); ++row)
+      QVERIFY2(table.cellText(row, 3) != "refused",
+               qPrintable(table.cellText(row, 2) + ": " + table.cellText(row, 4)));
     ::kill(sim, SIGTERM);
     ::waitpid(sim, nullptr, 0);
   }

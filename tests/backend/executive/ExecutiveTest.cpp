@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <optional>
 
 #include "InstalledConfig.h"
@@ -833,33 +834,80 @@ void expectHeldWhenTheOutcomeOfA(const std::string& move) {
   EXPECT_GE(limit, 0.1 * modelled + 1.0 - 0.01 * limit) << why;
 }
 
-// A rover whose moves take their time (the simulator with a time scale)
-// acknowledges each when it takes it on: the console shows it under way
-// until its outcome comes, and walks on without a hold.
-TEST(Executive, AMoveThatTakesItsTimeIsUnderWayUntilItsOutcomeComes) {
-  rover::SimulatedRoverOptions ro;
-  ro.operators = {alice()};
-  ro.time_scale = 0.2;  // a body move about 2.5 s: longer than a poll mapping a scan
-  rover::InProcessLink link(simulator(), ro, 200ms);
-  link::CommandSigner signer(alice());
-  ApprovalGate gate;
-  gate.setMode(ApprovalMode::kAutoApprove);
-  WalkExecutive executive(link, signer, gate, ground(), steps(2));
-  const auto started = std::chrono::steady_clock::now();
-  auto now = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  };
-  executive.start(now());
-  std::vector<std::uint64_t> seen;  // each move under way, once
-  while (executive.phase() != Phase::kDone && executive.phase() != Phase::kSuspended &&
-         now() < 120) {
-    executive.poll(now(), 20ms);
-    if (const auto& m = executive.moveUnderWay(); m && (seen.empty() || seen.back() != m->sequence))
-      seen.push_back(m->sequence);
+// A two-step walk on auto-approve over a rover whose moves take their time
+// (the simulator with a time scale), polled in wall time.
+struct TimedConsole {
+  explicit TimedConsole(int walk_steps = 2)
+      : executive{link, signer, gate, ground(), steps(walk_steps)} {
+    gate.setMode(ApprovalMode::kAutoApprove);
   }
-  ASSERT_EQ(executive.phase(), Phase::kDone) << executive.suspendedBecause();
+  static rover::SimulatedRoverOptions roverOptions() {
+    rover::SimulatedRoverOptions ro;
+    ro.operators = {alice()};
+    ro.time_scale = 0.2;  // a body move about 2.5 s: longer than a poll mapping a scan
+    return ro;
+  }
+  double now() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  }
+  void pollUntil(const std::function<bool()>& done) {
+    while (!done() && now() < 120) executive.poll(now(), 20ms);
+  }
+  bool stopped() const {
+    return executive.phase() == Phase::kDone || executive.phase() == Phase::kSuspended;
+  }
+
+  rover::InProcessLink link{simulator(), roverOptions(), 200ms};
+  link::CommandSigner signer{alice()};
+  ApprovalGate gate;
+  WalkExecutive executive;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+};
+
+// Such a rover acknowledges each move when it takes it on: the console
+// shows it under way until its outcome comes, and walks on without a hold.
+TEST(Executive, AMoveThatTakesItsTimeIsUnderWayUntilItsOutcomeComes) {
+  TimedConsole c;
+  c.executive.start(c.now());
+  std::vector<std::uint64_t> seen;  // each move under way, once
+  c.pollUntil([&] {
+    if (const auto& m = c.executive.moveUnderWay();
+        m && (seen.empty() || seen.back() != m->sequence))
+      seen.push_back(m->sequence);
+    return c.stopped();
+  });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone) << c.executive.suspendedBecause();
   EXPECT_GE(seen.size(), 2u);  // at least a move a step
-  EXPECT_FALSE(executive.moveUnderWay().has_value());
+  EXPECT_FALSE(c.executive.moveUnderWay().has_value());
+}
+
+// A hold stops the next motion, not the move under way, and the rover
+// refuses a scan until that move ends. Resumed before then, the walk waits
+// for the move's outcome, then scans and walks on.
+TEST(Executive, ResumedDuringAMoveTheWalkWaitsForTheMoveToEnd) {
+  TimedConsole c(1);
+  c.executive.start(c.now());
+  const auto& under_way = c.executive.moveUnderWay();
+  c.pollUntil([&] { return under_way.has_value() || c.stopped(); });
+  ASSERT_TRUE(under_way.has_value()) << c.executive.suspendedBecause();
+  const MoveUnderWay held = *under_way;
+  c.executive.hold(c.now(), "alice");
+  ASSERT_EQ(c.executive.phase(), Phase::kSuspended);
+  ASSERT_TRUE(under_way.has_value());  // still shown: the rover carries it on
+  EXPECT_EQ(under_way->sequence, held.sequence);
+  c.executive.resume(c.now());
+  EXPECT_EQ(c.executive.phase(), Phase::kAwaitingMoveEnd);
+  EXPECT_NE(c.executive.events().back().what.find("waits for the end of " + held.type + " " +
+                                                  std::to_string(held.sequence)),
+            std::string::npos)
+      << c.executive.events().back().what;
+  c.pollUntil([&] { return c.executive.phase() != Phase::kAwaitingMoveEnd; });
+  EXPECT_EQ(c.executive.phase(), Phase::kScanning) << c.executive.suspendedBecause();
+  EXPECT_FALSE(under_way.has_value());
+  c.pollUntil([&] { return c.stopped(); });
+  ASSERT_EQ(c.executive.phase(), Phase::kDone) << c.executive.suspendedBecause();
+  for (const auto& e : c.executive.events())
+    EXPECT_EQ(e.what.find("refused"), std::string::npos) << e.what;
 }
 
 TEST(Executive, ABodyMoveWhoseOutcomeNeverComesIsHeldAfterItsModelledTime) {
