@@ -11,15 +11,19 @@
 #include <vtkActor.h>
 #include <vtkActorCollection.h>
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkCellPicker.h>
 #include <vtkCommand.h>
 #include <vtkDataSet.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkMapper.h>
+#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkOpenGLFramebufferObject.h>
 #include <vtkProp.h>
+#include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 
 #include <QMouseEvent>
@@ -101,6 +105,17 @@ class VtkView::Renderer : public QObject {
   void setShown(bool shown) {
     shown_ = shown;
     if (shown_ && asked_) postRender();
+  }
+
+  // Picks the geometry the ray meets, on the CPU: no frame is drawn.
+  std::optional<Eigen::Vector3d> pickAt(int x, int y) {
+    if (!context_) return std::nullopt;
+    const int* size = window_->GetSize();
+    vtkNew<vtkCellPicker> picker;
+    picker->SetTolerance(1e-4);
+    if (!picker->Pick(x, size[1] - 1 - y, 0, renderer_)) return std::nullopt;
+    const double* p = picker->GetPickPosition();
+    return Eigen::Vector3d(p[0], p[1], p[2]);
   }
 
   QImage renderNow() {
@@ -407,6 +422,38 @@ long long VtkView::visibleCells() {
   return cells;
 }
 
+std::optional<QPointF> VtkView::widgetPointOf(const Eigen::Vector3d& world) {
+  std::optional<QPointF> at;
+  const double dpr = devicePixelRatioF();
+  inspect([&](vtkRenderer& renderer) {
+    const int* size = renderer.GetRenderWindow()->GetSize();
+    if (size[0] < 1 || size[1] < 1) return;
+    auto* m = renderer.GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+        double(size[0]) / size[1], -1, 1);
+    const double in[4] = {world.x(), world.y(), world.z(), 1.0};
+    double out[4];
+    m->MultiplyPoint(in, out);
+    if (!(out[3] > 0)) return;
+    // Normalised device coordinates to pixels, VTK's rows counted upwards.
+    const double x = (out[0] / out[3] + 1) / 2 * size[0];
+    const double y = size[1] - 1 - (out[1] / out[3] + 1) / 2 * size[1];
+    at = QPointF(x, y) / dpr;
+  });
+  return at;
+}
+
+void VtkView::pick(QPointF position, std::function<void(std::optional<Eigen::Vector3d>)> then) {
+  flush();
+  const double dpr = devicePixelRatioF();
+  QMetaObject::invokeMethod(
+      renderer_.get(), [r = renderer_.get(), view = this, x = int(position.x() * dpr),
+                        y = int(position.y() * dpr), then = std::move(then)]() mutable {
+        const auto point = r->pickAt(x, y);
+        QMetaObject::invokeMethod(
+            view, [then = std::move(then), point] { then(point); }, Qt::QueuedConnection);
+      });
+}
+
 QSurfaceFormat VtkView::defaultFormat() {
   QSurfaceFormat format;
   format.setRenderableType(QSurfaceFormat::OpenGL);
@@ -496,11 +543,22 @@ bool VtkView::forwardToInteractor(QEvent* e) {
       Input in = at(m->position(), m->modifiers(), id);
       in.repeat = e->type() == QEvent::MouseButtonDblClick ? 1 : 0;
       send(in);
+      if (m->button() == Qt::LeftButton) {
+        if (press) {
+          left_pressed_ = m->position();
+        } else if (left_pressed_ && (m->position() - *std::exchange(left_pressed_, std::nullopt))
+                                            .manhattanLength() <= kClickSlop) {
+          emit clicked(m->position());
+        }
+      }
       return true;
     }
     case QEvent::MouseMove: {
       auto* m = static_cast<QMouseEvent*>(e);
       send(at(m->position(), m->modifiers(), vtkCommand::MouseMoveEvent));
+      // A drag that comes back to where it started turned the camera all the same.
+      if (left_pressed_ && (m->position() - *left_pressed_).manhattanLength() > kClickSlop)
+        left_pressed_.reset();
       return true;
     }
     case QEvent::Wheel: {

@@ -2,13 +2,16 @@
 
 #include <vtkSmartPointer.h>
 
+#include <Eigen/Core>
 #include <QImage>
+#include <QPointF>
 #include <QSurfaceFormat>
 #include <QThread>
 #include <QWidget>
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 class QOffscreenSurface;
@@ -70,6 +73,13 @@ class VtkView : public QWidget {
   void setCameraMoving(bool moving);
   // Cells (triangles, points, lines) of the visible actors (waits).
   long long visibleCells();
+  // Where `world` is drawn, in widget pixels, by the camera as it is after
+  // the queued changes (waits, as inspect() does); none behind the camera.
+  std::optional<QPointF> widgetPointOf(const Eigen::Vector3d& world);
+  // Where the ray under `position` (widget pixels) first meets a visible,
+  // pickable prop, after the queued changes, found on the render thread;
+  // `then` gets it, or none where the ray meets nothing, on this thread.
+  void pick(QPointF position, std::function<void(std::optional<Eigen::Vector3d>)> then);
 
   // The surface format VTK needs; set it as the application default before
   // constructing QApplication.
@@ -78,6 +88,9 @@ class VtkView : public QWidget {
  signals:
   // A new frame is on screen.
   void frameRendered();
+  // A left click that did not turn the camera: released within
+  // kClickSlop pixels of where it was pressed.
+  void clicked(QPointF position);
 
  protected:
   void paintEvent(QPaintEvent* e) override;
@@ -102,6 +115,8 @@ class VtkView : public QWidget {
   QImage frame_;
   std::atomic<bool> camera_moving_ = false;
   int wheel_accumulator_ = 0;
+  static constexpr double kClickSlop = 4.0;  // [px]
+  std::optional<QPointF> left_pressed_;
 };
 
 }  // namespace ambler::rendering

@@ -29,6 +29,9 @@ TerrainView::TerrainView(QWidget* parent)
       tr("Scan points in the world frame; a walk's registered scans in colour"));
   show_points_->setChecked(true);
   show_mesh_->setText(tr("Terrain mesh and path"));
+  show_mesh_->setToolTip(
+      tr("The Terrain mesh tab's triangles and path; while shown, a click on the ground sets "
+         "the path's start, the next its goal"));
   show_mesh_->setChecked(true);
   auto* options = new QHBoxLayout;
   options->addWidget(show_points_);
@@ -42,6 +45,30 @@ TerrainView::TerrainView(QWidget* parent)
     scheduleRebuild({kGround, kOverlay});
   });
   connect(show_mesh_, &QCheckBox::toggled, this, [this] { scheduleRebuild({kOverlay}); });
+  connect(view_, &rendering::VtkView::clicked, this, &TerrainView::pickGround);
+}
+
+void TerrainView::pickGround(QPointF position) {
+  if (!show_mesh_->isChecked()) return;
+  view_->pick(position, [this](std::optional<Eigen::Vector3d> at) {
+    if (at) emit groundPicked(at->head<2>());
+  });
+}
+
+void TerrainView::setPathEnds(const std::optional<Eigen::Vector2d>& start,
+                              const std::optional<Eigen::Vector2d>& goal) {
+  path_start_ = start;
+  path_goal_ = goal;
+  scheduleRebuild({kOverlay});
+}
+
+std::optional<double> TerrainView::groundHeightAt(const Eigen::Vector2d& xy) const {
+  if (!map_ground_ && !display_) return std::nullopt;
+  const auto& [grid, ground] =
+      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
+  const auto cell = grid.cellAt(xy.x(), xy.y());
+  if (!cell || !std::isfinite(ground(cell->row, cell->col))) return std::nullopt;
+  return double(ground(cell->row, cell->col));
 }
 
 void TerrainView::setMeshOverlay(std::vector<std::vector<Eigen::Vector3d>> outlines,
@@ -99,6 +126,11 @@ void TerrainView::addMeshOverlay() {
   }
   if (mesh_path_.size() >= 2)
     addTo(kOverlay, rendering::makePolylines({lifted(mesh_path_)}, {0.0, 0.9, 1.0}, 5.0f));
+  // The start green, the goal magenta, each on the ground under it.
+  for (const auto& [end, rgb] : {std::pair{path_start_, Eigen::Vector3d(0.2, 0.9, 0.3)},
+                                 std::pair{path_goal_, Eigen::Vector3d(0.95, 0.3, 0.9)}})
+    if (const auto z = end ? groundHeightAt(*end) : std::nullopt)
+      addTo(kOverlay, rendering::makeSphere({end->x(), end->y(), *z + 0.15}, 0.3, rgb));
 }
 
 void TerrainView::setScene(const ScanDisplay& display) {
@@ -113,6 +145,8 @@ void TerrainView::clear() {
   map_ground_.reset();
   mesh_outlines_.clear();
   mesh_path_.clear();
+  path_start_.reset();
+  path_goal_.reset();
   registered_.clear();
   scheduleRebuild({kGround, kOverlay});
 }
@@ -221,13 +255,16 @@ void TerrainView::scheduleRebuild(std::initializer_list<Layer> layers) {
   });
 }
 
-void TerrainView::addTo(Layer layer, vtkSmartPointer<vtkProp> prop) {
+void TerrainView::addTo(Layer layer, vtkSmartPointer<vtkProp> prop, bool pickable) {
+  prop->SetPickable(pickable);
   props_[layer].push_back(prop.Get());
   view_->add(std::move(prop));
 }
 
 void TerrainView::addToWithStandIn(Layer layer, vtkSmartPointer<vtkProp> detailed,
-                                   vtkSmartPointer<vtkProp> stand_in) {
+                                   vtkSmartPointer<vtkProp> stand_in, bool pickable) {
+  detailed->SetPickable(pickable);
+  stand_in->SetPickable(pickable);
   props_[layer].push_back(detailed.Get());
   view_->addWithStandIn(std::move(detailed), std::move(stand_in));
 }
@@ -300,9 +337,9 @@ void TerrainView::addGround() {
   if (grid.cellCount() > kDetailLimit) {
     const auto [thin_grid, thin] = rendering::thinned(grid, ground, kDetailLimit);
     addToWithStandIn(kGround, rendering::makeHeightSurface(grid, ground, table),
-                     rendering::makeHeightSurface(thin_grid, thin, table));
+                     rendering::makeHeightSurface(thin_grid, thin, table), true);
   } else {
-    addTo(kGround, rendering::makeHeightSurface(grid, ground, table));
+    addTo(kGround, rendering::makeHeightSurface(grid, ground, table), true);
   }
   addTo(kGround,
         rendering::makeColorBar(table, map_ground_ ? "Map\nelevation [m]" : "Elevation [m]",

@@ -59,10 +59,20 @@ class TerrainView : public QWidget {
   // the scan points.
   void setRegisteredScans(const std::vector<std::vector<Eigen::Vector3d>>& scans);
 
+  // The path's start and goal (the Terrain mesh tab's), marked on the
+  // ground with the mesh.
+  void setPathEnds(const std::optional<Eigen::Vector2d>& start,
+                   const std::optional<Eigen::Vector2d>& goal);
+
   static constexpr int kDetailLimit =
       20000;  // cells or points of a map, a stand-in, the registered scans
   rendering::VtkView* view() const { return view_; }
   QSize sizeHint() const override { return {640, 480}; }
+
+ signals:
+  // A click on the ground while the terrain mesh and path are shown: a
+  // start or goal for the path, in the world frame [m].
+  void groundPicked(const Eigen::Vector2d& world_xy);
 
  private:
   // The scene in layers, each rebuilt only when what it draws changed: a
@@ -70,9 +80,13 @@ class TerrainView : public QWidget {
   enum Layer { kGround, kRover, kOverlay, kLayerCount };
   void scheduleRebuild(std::initializer_list<Layer> layers);
   void rebuild();
-  void addTo(Layer layer, vtkSmartPointer<vtkProp> prop);
+  // Only the ground is pickable: a click meets it through the rover and
+  // the points drawn over it.
+  void addTo(Layer layer, vtkSmartPointer<vtkProp> prop, bool pickable = false);
   void addToWithStandIn(Layer layer, vtkSmartPointer<vtkProp> detailed,
-                        vtkSmartPointer<vtkProp> stand_in);
+                        vtkSmartPointer<vtkProp> stand_in, bool pickable = false);
+  void pickGround(QPointF position);
+  std::optional<double> groundHeightAt(const Eigen::Vector2d& xy) const;
   void addGround();
   void addScanPoints();
   void addRover();
@@ -86,6 +100,7 @@ class TerrainView : public QWidget {
   QCheckBox* show_mesh_;
   std::vector<std::vector<Eigen::Vector3d>> mesh_outlines_;
   std::vector<Eigen::Vector3d> mesh_path_;
+  std::optional<Eigen::Vector2d> path_start_, path_goal_;
   std::vector<std::vector<Eigen::Vector3f>> registered_;  // thinned for drawing
   std::optional<ScanDisplay> display_;
   std::optional<std::pair<GridSpec, io::FloatImage>> map_ground_;

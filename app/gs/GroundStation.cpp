@@ -75,8 +75,11 @@ GroundStation::GroundStation(StationOptions options, QObject* parent)
       simulator_(options_.scanner, options_.simulated_ground),
       choice_(launchedSimulator()) {
   wireWindow();
+  connect(window_.terrainView(), &widgets::TerrainView::groundPicked, &mesh_,
+          &MeshController::pick);
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
     window_.terrainView()->setMeshOverlay(mesh_.outlines(), mesh_.pathPoints());
+    window_.terrainView()->setPathEnds(mesh_.start(), mesh_.goal());
     window_.terrainView()->setRegisteredScans(mesh_.registeredScans());
   });
   connect(&open_watcher_, &QFutureWatcher<std::shared_ptr<replay::MissionTimeline>>::finished, this,

@@ -145,16 +145,16 @@ void MeshController::pick(const Eigen::Vector2d& xy) {
   if (!start_ || goal_) {
     start_ = xy;
     goal_.reset();
-    const bool had_path = path_.has_value();
     path_.reset();
     ++path_request_;
     refresh();
-    if (had_path) emit overlayChanged();
+    emit overlayChanged();
     return;
   }
   goal_ = xy;
   ++path_request_;
   plan();
+  emit overlayChanged();
 }
 
 void MeshController::plan() {

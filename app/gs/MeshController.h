@@ -54,12 +54,15 @@ class MeshController : public QObject {
   // the tab is shown).
   const std::shared_ptr<const mapping::TerrainMesh>& mesh() const { return mesh_; }
   const std::optional<mapping::TerrainPath>& path() const { return path_; }
+  const std::optional<Eigen::Vector2d>& start() const { return start_; }
+  const std::optional<Eigen::Vector2d>& goal() const { return goal_; }
   // The triangles' outlines and the simplified path, for the 3-D view.
   std::vector<std::vector<Eigen::Vector3d>> outlines() const;
   std::vector<Eigen::Vector3d> pathPoints() const;
 
  signals:
-  // A new mesh, a path planned or cleared, or a scan registered.
+  // A new mesh, a new start or goal, a path planned or cleared, or a scan
+  // registered.
   void overlayChanged();
   void meshBuilt();
   void pathPlanned();

@@ -5,6 +5,9 @@
 // interlocks judge it again, auto-approve is visible when on, a logged walk
 // replays with the map of the time scrubbed to, exports write files, and
 // each main view is saved as a screenshot. Needs a display (xvfb-run).
+#include <vtkDataSet.h>
+#include <vtkMapper.h>
+
 #include <QApplication>
 #include <QChartView>
 #include <QCheckBox>
@@ -31,6 +34,7 @@
 #include "core/Resources.h"
 #include "gait/RoverConfig.h"
 #include "missionlog/MissionLog.h"
+#include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
 #include "sim/CourseScene.h"
 #include "sim/ObstacleCourse.h"
@@ -58,6 +62,13 @@ using ambler::widgets::MapView;
 using ambler::widgets::StepApprovalPanel;
 
 namespace {
+
+// The cells of a marker sphere in the 3-D view (the path's start or goal).
+long long markerCells() {
+  auto sphere = ambler::rendering::makeSphere({0, 0, 0}, 1.0, {1, 1, 1});
+  sphere->GetMapper()->Update();
+  return sphere->GetMapper()->GetInput()->GetNumberOfCells();
+}
 
 using ambler::gs::test::options;
 using ambler::test::hover;
@@ -786,7 +797,8 @@ class GroundStationTest : public QObject {
     QVERIFY(path.simplified_cost <= 1.05 * path.raw_cost);
     QVERIFY((path.simplified.back().head<2>() - Eigen::Vector2d(1, 17)).norm() < 0.2);
     QVERIFY(panel.readout().contains("Path:"));
-    QTRY_COMPARE(w.terrainView()->view()->visibleCells(), with_mesh + 1);  // one polyline
+    // One polyline, and the start's and goal's markers.
+    QTRY_COMPARE(w.terrainView()->view()->visibleCells(), with_mesh + 1 + 2 * markerCells());
     for (const auto& [widget, name] : {std::pair<QWidget*, QString>{&panel, "terrain-mesh.png"},
                                        {w.terrainView(), "3d-view-mesh-path.png"}}) {
       const QString error = screenshot(widget, name);
@@ -797,6 +809,48 @@ class GroundStationTest : public QObject {
     QVERIFY(planned.wait(30000));
     QVERIFY(mesh.path() && mesh.path()->found);
     QVERIFY(panel.readout().contains("Path:"));
+  }
+
+  // The same from the 3-D view: a click on the ground sets the path's
+  // start, marked there, and the next its goal; the path is planned
+  // between the points picked.
+  void clicksInThe3dViewPlanAPath() {
+    Console c;
+    auto& w = c.station.window();
+    auto& mesh = c.station.mesh();
+    QVERIFY(c.scan(1));
+    QSignalSpy built(&mesh, &ambler::gs::MeshController::meshBuilt);
+    w.showMeshView();
+    QVERIFY(built.wait(30000));
+    auto* view = w.terrainView()->view();
+    const long long with_mesh = view->visibleCells() + (long long)(mesh.mesh()->size());
+    QTRY_COMPARE(view->visibleCells(), with_mesh);
+    QSignalSpy picked(w.terrainView(), &ambler::widgets::TerrainView::groundPicked);
+    auto click = [&](const Eigen::Vector2d& xy) {
+      const auto at = view->widgetPointOf({xy.x(), xy.y(), 0.0});
+      QVERIFY(at && view->rect().contains(at->toPoint()));
+      QTest::mouseClick(view, Qt::LeftButton, {}, at->toPoint());
+      QVERIFY(picked.wait(5000));
+    };
+    click({0.0, 7.0});
+    const auto start = picked.takeFirst().at(0).value<Eigen::Vector2d>();
+    QVERIFY((start - Eigen::Vector2d(0, 7)).norm() < 0.5);  // the ground is not at z = 0
+    QCOMPARE(*mesh.start(), start);
+    QVERIFY(!mesh.goal());
+    QVERIFY(w.meshPanel()->readout().contains("click the goal"));
+    const long long sphere = markerCells();
+    QTRY_COMPARE(view->visibleCells(), with_mesh + sphere);  // the start's marker
+    QSignalSpy planned(&mesh, &ambler::gs::MeshController::pathPlanned);
+    click({1.0, 17.0});
+    const auto goal = picked.takeFirst().at(0).value<Eigen::Vector2d>();
+    QVERIFY(planned.wait(30000));
+    QVERIFY2(mesh.path() && mesh.path()->found, qPrintable(w.meshPanel()->readout()));
+    QVERIFY((mesh.path()->simplified.front().head<2>() - start).norm() < 0.2);
+    QVERIFY((mesh.path()->simplified.back().head<2>() - goal).norm() < 0.2);
+    // The path's polyline and both markers.
+    QTRY_COMPARE(view->visibleCells(), with_mesh + 1 + 2 * sphere);
+    const QString error = screenshot(w.terrainView(), "3d-view-path-picked.png");
+    QVERIFY2(error.isEmpty(), qPrintable(error));
   }
 
   // A walk's scans, the second put 0.15 m and 2 degrees off by dead

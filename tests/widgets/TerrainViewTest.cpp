@@ -103,6 +103,55 @@ class TerrainViewTest : public QObject {
              qPrintable(QString("%1 of %2 pixels").arg(seen.surface_seen).arg(seen.surface)));
   }
 
+  // With the terrain mesh and path shown, a click on the ground in the 3-D
+  // view picks the point under it (the path's start or goal): through a
+  // foot drawn over it, which is not ground. A drag turns the camera and
+  // picks nothing; with the mesh hidden a click picks nothing.
+  void aClickOnTheGroundPicksThePointUnderIt() {
+    ElevationMap map(GridSpec::covering({-6, -2, 6, 14}, 0.1));
+    const auto& g = map.grid();
+    for (int r = 0; r < g.rows; ++r)
+      for (int c = 0; c < g.cols; ++c)
+        map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+    const Eigen::Vector3d target(1.0, 6.0, 0.05);
+    RoverDisplay rover;
+    rover.stance.feet.fill(Eigen::Vector3d::Zero());  // Eigen leaves them unset
+    rover.stance.feet[0] = target;                    // a foot's sphere, 0.15 m, over the point
+    TerrainView view;
+    view.resize(640, 480);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    view.setMap(map);
+    view.setRover(rover, {}, std::nullopt);
+    QTest::qWait(50);  // the rebuild is queued
+    view.view()->renderedImage();
+    QSignalSpy picked(&view, &TerrainView::groundPicked);
+    const auto shown = view.view()->widgetPointOf(target);
+    QVERIFY(shown && view.view()->rect().contains(shown->toPoint()));
+    const QPoint at = shown->toPoint();
+    QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
+    QVERIFY(picked.wait(5000));
+    const auto xy = picked.takeFirst().at(0).value<Eigen::Vector2d>();
+    // Within a pixel's rounding (a pixel spans about 8 cm of ground there);
+    // the foot's sphere would put it 0.14 m nearer the camera.
+    QVERIFY2((xy - target.head<2>()).norm() < 0.07,
+             qPrintable(QString("picked %1, %2").arg(xy.x()).arg(xy.y())));
+
+    QCheckBox* mesh = nullptr;
+    for (auto* box : view.findChildren<QCheckBox*>())
+      if (box->text().contains("Terrain mesh")) mesh = box;
+    QVERIFY(mesh);
+    mesh->setChecked(false);
+    QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
+    QVERIFY(!picked.wait(500));
+    mesh->setChecked(true);
+
+    QTest::mousePress(view.view(), Qt::LeftButton, {}, at);
+    QTest::mouseMove(view.view(), at + QPoint(40, 0));
+    QTest::mouseRelease(view.view(), Qt::LeftButton, {}, at + QPoint(2, 0));
+    QVERIFY(!picked.wait(500));
+  }
+
   // Ground with no known height (a scene over a terrain model's no-data)
   // draws no surface and no colour bar: the bar's range came out NaN, and
   // its ticks read -nan in white. One known height brings the bar back.
