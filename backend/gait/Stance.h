@@ -52,7 +52,12 @@ std::string describe(const Heading& heading);
 // Where the feet are: world positions of the soles, and which legs stand.
 struct Stance {
   BodyPose body;
-  std::array<Eigen::Vector3d, kLegCount> feet{};
+  // Zero, not left unset as Eigen's own default leaves them.
+  std::array<Eigen::Vector3d, kLegCount> feet = [] {
+    std::array<Eigen::Vector3d, kLegCount> zero;
+    zero.fill(Eigen::Vector3d::Zero());
+    return zero;
+  }();
   std::array<bool, kLegCount> supporting{true, true, true, true, true, true};
 
   std::vector<Eigen::Vector2d> supportingFeet(int except = -1) const;

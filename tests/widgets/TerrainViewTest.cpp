@@ -54,6 +54,17 @@ Coverage coverage(const QImage& under, const QImage& over) {
   return out;
 }
 
+// Heights rise with x (5 cm a metre): the map's colours run across the
+// colour bar.
+ElevationMap risingWithX() {
+  ElevationMap map(GridSpec::covering({-6, -2, 6, 14}, 0.1));
+  const auto& g = map.grid();
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c)
+      map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+  return map;
+}
+
 }  // namespace
 
 class TerrainViewTest : public QObject {
@@ -65,12 +76,7 @@ class TerrainViewTest : public QObject {
   // which the colour bar explains: dots 2 px wide hid most of the surface
   // under one orange.
   void registeredScansLetTheMapShowThrough() {
-    // Heights rise with x: the map's colours run across the colour bar.
-    ElevationMap map(GridSpec::covering({-6, -2, 6, 14}, 0.1));
-    const auto& g = map.grid();
-    for (int r = 0; r < g.rows; ++r)
-      for (int c = 0; c < g.cols; ++c)
-        map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+    const ElevationMap map = risingWithX();
     std::vector<Eigen::Vector3d> scan;
     for (double y = 2.0; y < 8.0; y += 0.1)  // 10 cm apart, as a walking scan 5-10 m out
       for (double x = -3.0; x < 3.0; x += 0.1) scan.push_back({x, y, 0.05 * x + 0.01});
@@ -108,15 +114,10 @@ class TerrainViewTest : public QObject {
   // foot drawn over it, which is not ground. A drag turns the camera and
   // picks nothing; with the mesh hidden a click picks nothing.
   void aClickOnTheGroundPicksThePointUnderIt() {
-    ElevationMap map(GridSpec::covering({-6, -2, 6, 14}, 0.1));
-    const auto& g = map.grid();
-    for (int r = 0; r < g.rows; ++r)
-      for (int c = 0; c < g.cols; ++c)
-        map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+    const ElevationMap map = risingWithX();
     const Eigen::Vector3d target(1.0, 6.0, 0.05);
     RoverDisplay rover;
-    rover.stance.feet.fill(Eigen::Vector3d::Zero());  // Eigen leaves them unset
-    rover.stance.feet[0] = target;                    // a foot's sphere, 0.15 m, over the point
+    rover.stance.feet[0] = target;  // a foot's sphere, 0.15 m, over the point
     TerrainView view;
     view.resize(640, 480);
     view.show();
