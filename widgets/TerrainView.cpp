@@ -62,10 +62,14 @@ void TerrainView::setPathEnds(const std::optional<Eigen::Vector2d>& start,
   scheduleRebuild({kOverlay});
 }
 
+std::pair<const GridSpec&, const io::FloatImage&> TerrainView::drawnGround() const {
+  if (map_ground_) return {map_ground_->first, map_ground_->second};
+  return {display_->ground_grid, display_->ground};
+}
+
 std::optional<double> TerrainView::groundHeightAt(const Eigen::Vector2d& xy) const {
   if (!map_ground_ && !display_) return std::nullopt;
-  const auto& [grid, ground] =
-      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
+  const auto [grid, ground] = drawnGround();
   const auto cell = grid.cellAt(xy.x(), xy.y());
   if (!cell || !std::isfinite(ground(cell->row, cell->col))) return std::nullopt;
   return double(ground(cell->row, cell->col));
@@ -327,8 +331,7 @@ void TerrainView::rebuild() {
 // The walk's map or the simulated ground, coloured by elevation, with its
 // colour bar.
 void TerrainView::addGround() {
-  const auto& [grid, ground] =
-      map_ground_ ? *map_ground_ : std::pair{display_->ground_grid, display_->ground};
+  const auto [grid, ground] = drawnGround();
   float lo = INFINITY, hi = -INFINITY;
   for (float v : ground.pixels)
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);

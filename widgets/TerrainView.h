@@ -6,6 +6,7 @@
 #include <array>
 #include <initializer_list>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "executive/ApprovalGate.h"
@@ -86,6 +87,8 @@ class TerrainView : public QWidget {
   void addToWithStandIn(Layer layer, vtkSmartPointer<vtkProp> detailed,
                         vtkSmartPointer<vtkProp> stand_in, bool pickable = false);
   void pickGround(QPointF position);
+  // The ground drawn: the walk's map, else the scan's simulated ground.
+  std::pair<const GridSpec&, const io::FloatImage&> drawnGround() const;
   std::optional<double> groundHeightAt(const Eigen::Vector2d& xy) const;
   void addGround();
   void addScanPoints();
