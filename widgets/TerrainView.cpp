@@ -7,6 +7,7 @@
 #include <QCheckBox>
 #include <QHBoxLayout>
 #include <QTimer>
+#include <QToolTip>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
@@ -50,6 +51,14 @@ TerrainView::TerrainView(QWidget* parent)
 
 void TerrainView::pickGround(QPointF position) {
   if (!show_mesh_->isChecked()) return;
+  // The mesh is built only while its tab is looked at.
+  if (mesh_outlines_.empty()) {
+    QToolTip::showText(view_->mapToGlobal(position.toPoint()),
+                       tr("No terrain mesh yet: show the Terrain mesh tab to build it, then click "
+                          "the path's start and goal here"),
+                       view_);
+    return;
+  }
   view_->pick(position, [this](std::optional<Eigen::Vector3d> at) {
     if (at) emit groundPicked(at->head<2>());
   });

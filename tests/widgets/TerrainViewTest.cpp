@@ -4,6 +4,7 @@
 #include <QCheckBox>
 #include <QImage>
 #include <QSurfaceFormat>
+#include <QToolTip>
 #include <QtTest/QtTest>
 #include <cstdlib>
 #include <vector>
@@ -112,7 +113,8 @@ class TerrainViewTest : public QObject {
   // With the terrain mesh and path shown, a click on the ground in the 3-D
   // view picks the point under it (the path's start or goal): through a
   // foot drawn over it, which is not ground. A drag turns the camera and
-  // picks nothing; with the mesh hidden a click picks nothing.
+  // picks nothing; with the mesh hidden a click picks nothing, and before
+  // there is a mesh it says why.
   void aClickOnTheGroundPicksThePointUnderIt() {
     const ElevationMap map = risingWithX();
     const Eigen::Vector3d target(1.0, 6.0, 0.05);
@@ -130,6 +132,11 @@ class TerrainViewTest : public QObject {
     const auto shown = view.view()->widgetPointOf(target);
     QVERIFY(shown && view.view()->rect().contains(shown->toPoint()));
     const QPoint at = shown->toPoint();
+    // Without a mesh there is no path to start: the click says so.
+    QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
+    QTRY_VERIFY(QToolTip::text().contains("No terrain mesh yet"));
+    QVERIFY(!picked.wait(300));
+    view.setMeshOverlay({{{0, 0, 0}, {1, 0, 0}}}, {});  // any mesh
     QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
     QVERIFY(picked.wait(5000));
     const auto xy = picked.takeFirst().at(0).value<Eigen::Vector2d>();
