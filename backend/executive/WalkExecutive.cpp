@@ -248,19 +248,16 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
       suspend(now_s, "step rejected by the operator", false);
     }
   }
-  if (under_way_ && (phase_ == Phase::kExecuting || phase_ == Phase::kAwaitingMoveEnd)) {
-    if (!report_.reportedSince(under_way_->rover_acknowledged_s)) {
-      if (now_s > under_way_->due_s) {
-        const std::string why = outcomeLate();
-        under_way_.reset();
-        suspend(now_s, why, true);
-      }
-    } else if (phase_ == Phase::kExecuting) {
-      afterMove(now_s);
-    } else {
-      under_way_.reset();
-      scanAfterResume(now_s);
-    }
+  const bool awaiting_move =
+      under_way_ && (phase_ == Phase::kExecuting || phase_ == Phase::kAwaitingMoveEnd);
+  if (awaiting_move && report_.reportedSince(under_way_->rover_acknowledged_s)) {
+    if (phase_ == Phase::kExecuting) return afterMove(now_s);
+    under_way_.reset();
+    scanAfterResume(now_s);
+  } else if (awaiting_move && now_s > under_way_->due_s) {
+    const std::string why = outcomeLate();
+    under_way_.reset();
+    suspend(now_s, why, true);
   }
 }
 

@@ -180,14 +180,15 @@ class RoverLossTest : public QObject {
     const auto walk = [&]() -> const ambler::gs::WalkState& { return station.session()->state(); };
     QTRY_VERIFY_WITH_TIMEOUT(walk().move_under_way.has_value(), 60000);
     const std::string type = walk().move_under_way->type;
+    // The status bar's part on the move, once it shows one.
+    const auto underWay = [&] {
+      QString text;
+      for (const auto* label : station.window().findChildren<QLabel*>())
+        if (label->text().contains(" under way ")) text = label->text();
+      return text;
+    };
     QString shown;
-    QTRY_VERIFY_WITH_TIMEOUT(
-        [&] {
-          for (const auto* label : station.window().findChildren<QLabel*>())
-            if (label->text().contains(" under way ")) shown = label->text();
-          return !shown.isEmpty();
-        }(),
-        5000);
+    QTRY_VERIFY_WITH_TIMEOUT(!(shown = underWay()).isEmpty(), 5000);
     QVERIFY2(shown.contains(QString::fromStdString(type) + " under way"), qPrintable(shown));
     QVERIFY2(shown.contains("held after"), qPrintable(shown));
     const QDir shots(AMBLER_SCREENSHOT_DIR);
@@ -201,13 +202,7 @@ class RoverLossTest : public QObject {
     QTRY_COMPARE_WITH_TIMEOUT(walk().phase, Phase::kSuspended, 5000);
     QVERIFY(walk().move_under_way.has_value());
     QCOMPARE(walk().move_under_way->sequence, sequence);
-    QTRY_VERIFY_WITH_TIMEOUT(
-        [&] {
-          for (const auto* label : station.window().findChildren<QLabel*>())
-            if (label->text().contains(" under way ")) shown = label->text();
-          return !shown.contains("held after");
-        }(),
-        5000);
+    QTRY_VERIFY_WITH_TIMEOUT(!(shown = underWay()).contains("held after"), 5000);
     QVERIFY2(shown.contains(QString::fromStdString(type) + " under way"), qPrintable(shown));
     auto& panel = *station.window().approvalPanel();
     QTRY_VERIFY(panel.resumeButton()->isEnabled());
