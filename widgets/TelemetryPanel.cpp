@@ -199,9 +199,11 @@ void TelemetryPanel::setRover(const std::optional<executive::RoverSample>& rover
   }
   const auto& stance = rover->stance;
   const auto& b = stance.body;
-  pose_->setText(tr("Body x %1 m, y %2 m, link plane z %3 m, heading %4°")
-                     .arg(fixed(b.xy.x(), 3), fixed(b.xy.y(), 3), fixed(b.link_z, 3),
-                          fixed(b.heading_rad * 180.0 / M_PI, 1)));
+  const QString pose = tr("Body x %1 m, y %2 m, link plane z %3 m, heading %4°")
+                           .arg(fixed(b.xy.x(), 3), fixed(b.xy.y(), 3), fixed(b.link_z, 3),
+                                fixed(b.heading_rad * 180.0 / M_PI, 1));
+  pose_->setText(rover->moving ? tr("%1 · moving: where the move under way began").arg(pose)
+                               : pose);
   for (int r = 0; r < gait::kLegCount; ++r) {
     const auto& f = stance.feet[std::size_t(r)];
     const bool contact = stance.supporting[std::size_t(r)];

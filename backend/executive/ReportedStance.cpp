@@ -16,8 +16,9 @@ void RoverReport::take(const link::Telemetry& message) {
 }
 
 bool RoverReport::reportedSince(double rover_time_s) const {
-  return body_time_s >= rover_time_s && std::all_of(leg_time_s.begin(), leg_time_s.end(),
-                                                    [&](double t) { return t >= rover_time_s; });
+  return body_time_s >= rover_time_s && !moving() &&
+         std::all_of(leg_time_s.begin(), leg_time_s.end(),
+                     [&](double t) { return t >= rover_time_s; });
 }
 
 std::optional<gait::Stance> RoverReport::stance(const gait::RoverModel& model) const {
@@ -36,7 +37,7 @@ std::optional<gait::Stance> RoverReport::stance(const gait::RoverModel& model) c
 std::optional<RoverSample> RoverReport::sample(const gait::RoverModel& model, double time_s) const {
   auto s = stance(model);
   if (!s) return std::nullopt;
-  RoverSample out{time_s, *s, {}};
+  RoverSample out{time_s, *s, {}, moving()};
   for (int i = 0; i < gait::kLegCount; ++i)
     out.force_n[std::size_t(i)] = legs[std::size_t(i)]->force_n;
   return out;

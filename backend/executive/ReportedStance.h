@@ -13,6 +13,8 @@ struct RoverSample {
   double time_s = 0.0;
   gait::Stance stance;
   std::array<double, gait::kLegCount> force_n{};
+  // The rover says a move is under way: the stance is where it began.
+  bool moving = false;
 };
 
 // What the rover reports of its legs and body, newest of each.
@@ -25,10 +27,14 @@ struct RoverReport {
 
   RoverReport() { leg_time_s.fill(-1e300); }
   void take(const link::Telemetry& message);  // keeps leg and body states
-  // Whether the body and every leg have reported since `rover_time_s`:
-  // each travels on its own DDS topic, and over a network they may come in
-  // any order relative to each other and to the acknowledgements.
+  // Whether the body and every leg have reported since `rover_time_s`, the
+  // body no longer moving: each travels on its own DDS topic, and over a
+  // network they may come in any order relative to each other and to the
+  // acknowledgements.
   bool reportedSince(double rover_time_s) const;
+  // The rover's last word on its body is that a move is under way, this
+  // console's or another's (docs/dds.md §7).
+  bool moving() const { return body && body->moving; }
   // The stance those reports describe (feet by forward kinematics); none
   // until the body and every leg have reported.
   std::optional<gait::Stance> stance(const gait::RoverModel& model) const;

@@ -91,7 +91,29 @@ void WalkExecutive::resume(double now_s) {
     phase_ = Phase::kAwaitingMoveEnd;
     return;
   }
+  if (report_.moving()) return awaitForeignMove(now_s, "resumed");
   scanAfterResume(now_s);
+}
+
+// The rover says a move is under way that this console does not follow
+// (another console's, or its own before a restart) and would refuse a scan
+// until it ends.
+void WalkExecutive::awaitForeignMove(double now_s, const std::string& why) {
+  note(now_s, why + ": the rover reports a move under way; the scan waits for its end");
+  foreign_move_due_s_ = now_s + opt_.foreign_move_wait_s;
+  phase_ = Phase::kAwaitingMoveEnd;
+}
+
+void WalkExecutive::followForeignMove(double now_s) {
+  if (!report_.moving()) {
+    note(now_s, "the rover reports the move under way ended");
+    return steps_done_ >= opt_.steps ? requestClosingScan(now_s) : requestScan(now_s);
+  }
+  if (now_s <= foreign_move_due_s_) return;
+  std::ostringstream why;
+  why << "the rover still reports a move under way " << opt_.foreign_move_wait_s
+      << " s after the walk began waiting for its end";
+  suspend(now_s, why.str(), false);
 }
 
 void WalkExecutive::scanAfterResume(double now_s) {
@@ -209,14 +231,19 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
   }
   for (const auto& message : messages) handle(message, now_s);
   if (phase_ == Phase::kIdle) return;
-  if (phase_ == Phase::kConnecting) {
-    if (!reported_) return;
-    requestScan(now_s);
+  if (phase_ == Phase::kConnecting && reported_) {
+    if (report_.moving())
+      awaitForeignMove(now_s, "connected");
+    else
+      requestScan(now_s);
   }
-  // Even when done or suspended: the rover holds when the ground falls
-  // silent. Not while the link is lost: each attempt would wait for it.
-  if (!link_lost_ && now_s - last_sent_s_ >= opt_.heartbeat_period_s)
+  // Even when done or suspended, and while waiting for the rover's state
+  // (which a rover with a move under way reports only at its end): the
+  // rover holds when the ground falls silent. Not before the rover is
+  // heard, nor while the link is lost: each attempt would wait for it.
+  if (heard_ && !link_lost_ && now_s - last_sent_s_ >= opt_.heartbeat_period_s)
     send(link::GroundHeartbeat{}, now_s);
+  if (phase_ == Phase::kConnecting) return;
   // The step planned or under way before the outage is dropped: after it,
   // the operator resumes and the step is scanned and planned afresh.
   if (link_lost_ && phase_ != Phase::kSuspended && phase_ != Phase::kDone)
@@ -258,6 +285,8 @@ void WalkExecutive::advance(const std::vector<link::Telemetry>& messages, double
     const std::string why = outcomeLate();
     under_way_.reset();
     suspend(now_s, why, true);
+  } else if (phase_ == Phase::kAwaitingMoveEnd && !under_way_) {
+    followForeignMove(now_s);
   }
 }
 
@@ -277,6 +306,7 @@ void WalkExecutive::followMoveWhileSuspended(double now_s) {
 
 void WalkExecutive::handle(const link::Telemetry& message, double now_s) {
   if (message.rover_id != opt_.rover_id) return;
+  heard_ = true;
   if (std::holds_alternative<link::LegState>(message.body) ||
       std::holds_alternative<link::BodyState>(message.body)) {
     report_.take(message);

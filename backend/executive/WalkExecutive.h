@@ -47,6 +47,12 @@ struct ExecutiveOptions {
   // on, so without a limit a rover that stopped reporting would keep the
   // step executing for good.
   double move_time_factor = 2.0;
+  // A move under way that is not this console's (another console's, or
+  // this console's before it restarted): the scan waits for the rover to
+  // report the move ended, at most this long; then the walk suspends,
+  // saying so. Two of the longest body moves the planner makes (1.5 m,
+  // 45 s by the rover model).
+  double foreign_move_wait_s = 90.0;
   double off_plan_m = 0.05;    // body or foot further than this from the plan: replan
   double off_plan_rad = 0.02;  // or the body turned this much more or less than planned
   // Plan the next step while the rover executes this one (cmu-1990 TCA);
@@ -96,9 +102,10 @@ enum class Phase {
   kScanning,
   kAwaitingDecision,
   kExecuting,
-  // Resumed while the move of a suspended step is still under way: a hold
-  // stops the next motion, not that one, and the rover takes nothing else
-  // on before its outcome.
+  // The rover has a move under way, and takes nothing else on before its
+  // outcome: the move of a suspended step after a resume (a hold stops the
+  // next motion, not that one), or one the rover reports that is not this
+  // console's.
   kAwaitingMoveEnd,
   kSuspended,
   kDone
@@ -253,6 +260,8 @@ class WalkExecutive {
   void endHold(double now_s);
   void scanAfterResume(double now_s);
   void followMoveWhileSuspended(double now_s);
+  void awaitForeignMove(double now_s, const std::string& why);
+  void followForeignMove(double now_s);
   void requestScan(double now_s);
   void requestClosingScan(double now_s);
   void acquireScan(int parent_task, const std::string& name, double now_s);
@@ -325,9 +334,11 @@ class WalkExecutive {
   double sent_s_ = 0.0;
   std::optional<double> round_trip_s_;
   double last_sent_s_ = -1e300;  // any command, heartbeats included
+  bool heard_ = false;           // anything from the rover yet
   std::string rover_holding_;
   std::optional<std::string> link_lost_;  // why the last command could not be sent
   std::string suspended_because_;
+  double foreign_move_due_s_ = 0.0;      // console time; awaitForeignMove()
   std::optional<std::uint64_t> resume_;  // a Resume sent, not yet acknowledged
   double resumed_at_s_ = -1e300;         // rover time of the acknowledgement that ended it
   std::optional<MoveUnderWay> under_way_;

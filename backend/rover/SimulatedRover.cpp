@@ -135,6 +135,7 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
   if (reason.empty()) reason = link::outsideLimits(command.body, config_.model, config_.gait).why();
   std::vector<link::Telemetry> changes;
   const double busy_before = busy_s_;
+  const gait::BodyPose before = odometry_.estimate().body;
   if (reason.empty()) reason = carryOut(command, now_s, changes);
   std::vector<link::Telemetry> out{
       message(now_s, link::CommandAck{command.operator_id, command.console_id, command.sequence,
@@ -143,6 +144,11 @@ std::vector<link::Telemetry> SimulatedRover::handle(const link::Command& command
     outcome_ = std::move(changes);
     under_way_ = link::typeName(command.body) + " " + std::to_string(command.sequence);
     outcome_due_s_ = now_s + (busy_s_ - busy_before) * options_.time_scale;
+    // Said at once, and kept on the state topic for a console that joins
+    // before the outcome: until then the rover takes no scan.
+    if (moves)
+      out.push_back(message(now_s, link::BodyState{before.xy.x(), before.xy.y(), before.link_z,
+                                                   before.heading_rad, true}));
     return out;
   }
   out.insert(out.end(), changes.begin(), changes.end());

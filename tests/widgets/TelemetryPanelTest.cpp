@@ -125,6 +125,21 @@ class TelemetryPanelTest : public QObject {
     QCOMPARE(legs->item(0, 3)->text(), QString("0.000"));
     QCOMPARE(legs->item(0, 4)->text(), QString("-1.250"));
   }
+
+  // While the rover says a move is under way, its last pose is where the
+  // move began, and the panel says so.
+  void aMoveUnderWayIsShownWithThePose() {
+    TelemetryPanel panel;
+    ambler::executive::RoverSample rover;
+    rover.stance.body.xy = {1.0, 2.0};
+    rover.moving = true;
+    panel.setRover(rover);
+    QString pose;
+    for (const auto* label : panel.findChildren<QLabel*>())
+      if (label->text().startsWith("Body x")) pose = label->text();
+    QCOMPARE(pose, QString("Body x 1.000 m, y 2.000 m, link plane z 2.400 m, heading 0.0° · "
+                           "moving: where the move under way began"));
+  }
 };
 
 int main(int argc, char** argv) {

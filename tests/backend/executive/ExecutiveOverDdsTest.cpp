@@ -51,16 +51,19 @@ double secondsSince(Clock::time_point t) {
 // ambler-sim serving `domain` until the test ends.
 class SimProcess {
  public:
-  SimProcess(const TempDir& dir, std::uint32_t domain, double link_timeout_s) {
+  // `time_scale`: ambler-sim's --time-scale (0: every move at once).
+  SimProcess(const TempDir& dir, std::uint32_t domain, double link_timeout_s,
+             double time_scale = 0.0) {
     const auto keys = dir / "operators.json";
     std::ofstream(keys) << R"({"operators": [{"operator": "alice", "key_hex": ")" << aliceHex()
                         << R"("}]})";
     pid_ = ::fork();
     if (pid_ == 0) {
-      const std::string d = std::to_string(domain), t = std::to_string(link_timeout_s);
+      const std::string d = std::to_string(domain), t = std::to_string(link_timeout_s),
+                        scale = std::to_string(time_scale);
       ::execl(AMBLER_SIM, AMBLER_SIM, "--domain", d.c_str(), "--keys", keys.c_str(),
               "--link-timeout", t.c_str(), "--heartbeat-ms", "200", "--duration", "120",
-              static_cast<char*>(nullptr));
+              "--time-scale", scale.c_str(), static_cast<char*>(nullptr));
       ::_exit(127);
     }
   }
@@ -247,6 +250,64 @@ TEST(ExecutiveOverDds, AConsoleKilledMidWalkLosesNoAcknowledgedCommandAndTheRove
     EXPECT_TRUE(traffic.commands.count(sequence)) << "command " << sequence << " lost";
     EXPECT_TRUE(traffic.acks.count(sequence)) << "ack of " << sequence << " lost";
   }
+}
+
+// A console (ambler-cli drive) killed with SIGKILL while its body move is
+// under way on a rover whose moves take their time. Another console joins
+// once the dead one's command authority has lapsed: the rover's state,
+// kept on DDS for late joiners, says a move is under way, and the new
+// console scans only after the rover reports its end (before then the
+// rover would refuse the scan), then walks without a refusal.
+TEST(ExecutiveOverDds, AConsoleJoiningWhileAMoveIsUnderWayScansAfterItsEnd) {
+  TempDir dir;
+  const auto domain = testDomain();
+  SimProcess sim(dir, domain, 1.0, 0.4);
+  link::dds::DdsLink monitor(domain, 1);
+  const auto [console, lines] =
+      startDrive(dir, domain, dir / "first.db", {"--steps", "5", "--auto-approve"});
+  ASSERT_GE(console, 0);
+  char line[4096];
+  bool moving = false;
+  const auto start = Clock::now();
+  while (!moving && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
+    const auto j = nlohmann::json::parse(line);
+    moving = j.contains("ack") && j["accepted"].get<bool>() && j["command"] == "BodyMove";
+  }
+  ASSERT_TRUE(moving) << "the first console did not move the rover";
+  ::kill(console, SIGKILL);
+  std::fclose(lines);
+  ::waitpid(console, nullptr, 0);
+  bool lapsed = false;  // the rover holds for the lost link, and nobody holds authority
+  const auto killed = Clock::now();
+  while (!lapsed && secondsSince(killed) < 10)
+    for (const auto& t : monitor.receive(50ms))
+      if (const auto* h = std::get_if<link::Heartbeat>(&t.body))
+        lapsed = h->holding && h->authority.empty();
+  ASSERT_TRUE(lapsed) << "the dead console's authority did not lapse";
+
+  link::dds::DdsLink dds(domain, 1);
+  link::CommandSigner signer(alice());
+  ApprovalGate gate([](const missionlog::Decision&) {});
+  gate.setMode(ApprovalMode::kAutoApprove);
+  ExecutiveOptions options;
+  options.steps = 1;
+  options.heartbeat_period_s = 0.25;  // well under the rover's link timeout
+  WalkExecutive executive(dds, signer, gate, ground(), options);
+  const auto pollUntil = [&](auto done, double limit_s) {
+    const auto t0 = Clock::now();
+    while (!done() && secondsSince(t0) < limit_s) executive.poll(link::utcNowS(), 50ms);
+  };
+  executive.start(link::utcNowS(), true);
+  pollUntil([&] { return executive.phase() != Phase::kConnecting; }, 10);
+  ASSERT_EQ(executive.phase(), Phase::kAwaitingMoveEnd) << executive.events().back().what;
+  pollUntil([&] { return executive.phase() != Phase::kAwaitingMoveEnd; }, 30);
+  EXPECT_EQ(executive.phase(), Phase::kScanning) << executive.events().back().what;
+  pollUntil(
+      [&] { return executive.phase() == Phase::kDone || executive.phase() == Phase::kSuspended; },
+      60);
+  ASSERT_EQ(executive.phase(), Phase::kDone) << executive.suspendedBecause();
+  for (const auto& e : executive.events())
+    EXPECT_EQ(e.what.find("refused"), std::string::npos) << e.what;
 }
 
 // A rover that reports its state and heartbeat but answers no command: the

@@ -910,6 +910,90 @@ TEST(Executive, ResumedDuringAMoveTheWalkWaitsForTheMoveToEnd) {
     EXPECT_EQ(e.what.find("refused"), std::string::npos) << e.what;
 }
 
+// A console waiting for the rover's state (which a rover with a move under
+// way reports only at the move's end) keeps sending heartbeats once it
+// hears the rover: else the rover would hold for a lost link meanwhile.
+TEST(Executive, AConsoleWaitingForTheRoversStateKeepsTheLinkAlive) {
+  Console c;
+  c.link.lose_states = true;
+  c.executive.start(c.now);
+  const auto& events = c.executive.events();
+  c.pollUntil([&] { return !events.empty(); }, 4.0);  // longer than the rover's 3 s link timeout
+  EXPECT_EQ(c.executive.phase(), Phase::kConnecting);
+  for (const auto& e : events) ADD_FAILURE() << e.what;
+}
+
+// Keeps what the rover sends until let through, so that the rover can be
+// put in a state before the console hears from it.
+class WithheldLink : public link::Link {
+ public:
+  explicit WithheldLink(link::Link& inner) : inner_(inner) {}
+  void send(const link::Command& c) override { inner_.send(c); }
+  std::vector<link::Telemetry> receive(std::chrono::milliseconds t) override {
+    auto in = inner_.receive(t);
+    held_.insert(held_.end(), in.begin(), in.end());
+    return withholding ? std::vector<link::Telemetry>{} : std::exchange(held_, {});
+  }
+  std::string describe() const override { return inner_.describe(); }
+  const std::vector<link::Telemetry>& held() const { return held_; }
+  bool withholding = true;
+
+ private:
+  link::Link& inner_;
+  std::vector<link::Telemetry> held_;
+};
+
+// Bob hands command authority to Alice while his body move is under way.
+// Her console, joining then, hears from the rover that it moves, and waits
+// for the move's end before it scans, which the rover would refuse until
+// then; then it walks without a refusal.
+TEST(Executive, AConsoleJoiningDuringAnotherConsolesMoveScansOnceTheMoveHasEnded) {
+  auto ro = TimedConsole::roverOptions();
+  ro.operators = {alice(), bob()};
+  rover::InProcessLink rover{simulator(), ro, 200ms};
+  WithheldLink link{rover};
+  link::CommandSigner signer{alice()}, bobs{bob()};
+  ApprovalGate gate;
+  gate.setMode(ApprovalMode::kAutoApprove);
+  WalkExecutive executive{link, signer, gate, ground(), steps(1)};
+  const auto started = std::chrono::steady_clock::now();
+  auto now = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
+  auto pollUntil = [&](const std::function<bool()>& done) {
+    while (!done() && now() < 120) executive.poll(now(), 20ms);
+  };
+
+  link.send(bobs.command(1, link::BodyMove{0.0, 0.2, 0.0, 0.0}));
+  link.send(signer.command(1, link::RequestAuthority{}));
+  link.send(bobs.command(1, link::HandOver{signer.console()}));
+  auto acks = [&] {
+    return std::count_if(link.held().begin(), link.held().end(), [](const link::Telemetry& t) {
+      const auto* a = std::get_if<link::CommandAck>(&t.body);
+      return a && a->accepted;
+    });
+  };
+  while (acks() < 3 && now() < 20) link.receive(20ms);
+  ASSERT_EQ(acks(), 3);
+  link.withholding = false;
+
+  executive.start(now());
+  pollUntil([&] { return executive.phase() != Phase::kConnecting; });
+  ASSERT_EQ(executive.phase(), Phase::kAwaitingMoveEnd) << executive.suspendedBecause();
+  EXPECT_TRUE(executive.report().moving());
+  EXPECT_FALSE(executive.moveUnderWay().has_value());  // not this console's
+  EXPECT_EQ(executive.events().back().what,
+            "connected: the rover reports a move under way; the scan waits for its end");
+  pollUntil([&] { return executive.phase() != Phase::kAwaitingMoveEnd; });
+  EXPECT_EQ(executive.phase(), Phase::kScanning) << executive.suspendedBecause();
+  EXPECT_FALSE(executive.report().moving());
+  pollUntil(
+      [&] { return executive.phase() == Phase::kDone || executive.phase() == Phase::kSuspended; });
+  ASSERT_EQ(executive.phase(), Phase::kDone) << executive.suspendedBecause();
+  for (const auto& e : executive.events())
+    EXPECT_EQ(e.what.find("refused"), std::string::npos) << e.what;
+}
+
 TEST(Executive, ABodyMoveWhoseOutcomeNeverComesIsHeldAfterItsModelledTime) {
   expectHeldWhenTheOutcomeOfA("BodyMove");
 }

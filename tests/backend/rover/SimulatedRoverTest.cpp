@@ -51,17 +51,26 @@ TEST(SimulatedRover, ASignedBodyMoveIsExecutedAndReported) {
   EXPECT_EQ(out.back().rover_id, 2u);
 }
 
-// With a time scale a move is acknowledged when it is taken on and its
-// outcome comes once its modelled time, scaled, has passed; meanwhile other
-// moves and scans are refused, a Hold is not.
+// With a time scale a move is acknowledged when it is taken on, with a
+// body state that says it moves, and its outcome comes once its modelled
+// time, scaled, has passed; meanwhile other moves and scans are refused, a
+// Hold is not.
 TEST(SimulatedRover, WithATimeScaleAMoveReportsItsOutcomeWhenItsTimeIsUp) {
   auto o = options();
   o.time_scale = 0.5;
   SimulatedRover rover(simulator(), o);
   link::CommandSigner signer(alice());
+  const gait::BodyPose start = rover.estimate().body;
   auto out = rover.handle(command(link::BodyMove{0.0, 0.3, 0.0, 0.0}, &signer), 1.0);
-  ASSERT_EQ(out.size(), 1u);
+  ASSERT_EQ(out.size(), 2u);
   ASSERT_TRUE(ackOf(out).accepted) << ackOf(out).reason;
+  const auto& moving = std::get<link::BodyState>(out[1].body);
+  EXPECT_TRUE(moving.moving);
+  EXPECT_EQ(out[1].time_s, 1.0);
+  // Where the rover stood when the move began: the outcome says where it ended.
+  EXPECT_EQ(moving.x_m, start.xy.x());
+  EXPECT_EQ(moving.y_m, start.xy.y());
+  EXPECT_EQ(moving.heading_rad, start.heading_rad);
   const double due = 1.0 + 0.5 * rover.lastMove().duration_s;
   EXPECT_GT(due, 5.0);  // 0.3 m at 2 m/min
   EXPECT_TRUE(rover.finished(due - 0.01).empty());
@@ -76,7 +85,9 @@ TEST(SimulatedRover, WithATimeScaleAMoveReportsItsOutcomeWhenItsTimeIsUp) {
   const auto outcome = rover.finished(due);
   ASSERT_EQ(outcome.size(), gait::kLegCount + 1u);  // six legs, body
   for (const auto& t : outcome) EXPECT_EQ(t.time_s, due);
-  EXPECT_TRUE(std::holds_alternative<link::BodyState>(outcome.back().body));
+  const auto& ended = std::get<link::BodyState>(outcome.back().body);
+  EXPECT_FALSE(ended.moving);
+  EXPECT_NEAR(ended.y_m - start.xy.y(), 0.3, 0.02);
   EXPECT_TRUE(rover.finished(due + 100).empty());  // once
 }
 
