@@ -119,10 +119,17 @@ TelemetryPanel::TelemetryPanel(QWidget* parent)
              makeChartView(tr("Foot heights")), makeChartView(tr("Foot loads (force sensors)"))},
       plots_(new QTabWidget) {
   pose_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  pose_->setWordWrap(true);  // a longer line (a move under way) must not widen the panel
   legs_->setHorizontalHeaderLabels({tr("Leg"), tr("Contact"), tr("Load [kN]"), tr("Foot x [m]"),
                                     tr("Foot y [m]"), tr("Foot z [m]")});
   legs_->verticalHeader()->hide();
   legs_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+  // Wide enough for every header, since the wrapped pose line above no
+  // longer holds the column open.
+  int header_width = 2 * legs_->frameWidth();
+  for (int c = 0; c < legs_->columnCount(); ++c)
+    header_width += legs_->horizontalHeader()->sectionSizeHint(c);
+  legs_->setMinimumWidth(header_width);
   legs_->setEditTriggers(QAbstractItemView::NoEditTriggers);
   legs_->verticalHeader()->setDefaultSectionSize(22);
   legs_->setFixedHeight(legs_->horizontalHeader()->sizeHint().height() + gait::kLegCount * 22 +
