@@ -232,6 +232,8 @@ void MainWindow::setReplay(const QString& what) {
   replaying_ = !what.isEmpty();
   timeline_bar_->setVisible(replaying_);
   approval_->setEnabled(what.isEmpty());
+  approval_->setReplay(replaying_);
+  map_view_->setFootholdEditable(!replaying_);
   walk_action_->setEnabled(what.isEmpty());
   walk_command_->setEnabled(what.isEmpty());
   hold_action_->setEnabled(what.isEmpty());

@@ -234,13 +234,14 @@ void MapView::paintEvent(QPaintEvent*) {
     p.setPen(palette().windowText().color());
   }
   const Box2 b = viewBox();
+  const QString extent = tr("%1 m x %2 m, north up")
+                             .arg(b.x_max - b.x_min, 0, 'f', 0)
+                             .arg(b.y_max - b.y_min, 0, 'f', 0);
+  const QString caption =
+      footholdEditable() ? tr("%1; click to move the proposed foothold").arg(extent) : extent;
   p.drawText(
       QRectF(kMargin, height() - kMargin - kReadoutHeight, width() - 2 * kMargin, kReadoutHeight),
-      Qt::AlignLeft | Qt::AlignVCenter,
-      readout_.isEmpty() ? tr("%1 m x %2 m, north up; click to move the proposed foothold")
-                               .arg(b.x_max - b.x_min, 0, 'f', 0)
-                               .arg(b.y_max - b.y_min, 0, 'f', 0)
-                         : readout_);
+      Qt::AlignLeft | Qt::AlignVCenter, readout_.isEmpty() ? caption : readout_);
 }
 
 void MapView::drawColorBar(QPainter& p) const {
@@ -390,9 +391,18 @@ void MapView::mouseMoveEvent(QMouseEvent* e) {
   }
 }
 
+void MapView::setFootholdEditable(bool on) {
+  foothold_editable_ = on;
+  update();
+}
+
+bool MapView::footholdEditable() const {
+  return foothold_editable_ && proposal_ && proposal_->plan.leg >= 0;
+}
+
 void MapView::mousePressEvent(QMouseEvent* e) {
   const auto w = worldPointAt(e->position());
-  if (e->button() == Qt::LeftButton && w && proposal_ && proposal_->plan.leg >= 0)
+  if (e->button() == Qt::LeftButton && w && footholdEditable())
     emit footholdClicked(proposal_->id, w->x(), w->y());
 }
 

@@ -37,6 +37,8 @@ class MapView : public QWidget {
   void setRover(const std::optional<RoverDisplay>& rover);
   void setShown(Shown layer);
   Shown shown() const { return shown_; }
+  // Whether a click moves the proposed foothold (not in a replay).
+  void setFootholdEditable(bool on);
   const std::optional<terrain::ElevationMap>& map() const { return map_; }
   QSize sizeHint() const override { return {520, 520}; }
 
@@ -57,6 +59,8 @@ class MapView : public QWidget {
 
  private:
   void recolor();
+  // A click would move the proposed foothold: a leg step shown, editing on.
+  bool footholdEditable() const;
   Box2 viewBox() const;
   void drawColorBar(class QPainter& p) const;
   void drawProposal(class QPainter& p) const;
@@ -68,6 +72,7 @@ class MapView : public QWidget {
 
   std::optional<terrain::ElevationMap> map_;
   std::optional<executive::StepProposal> proposal_;
+  bool foothold_editable_ = true;
   std::optional<RoverDisplay> rover_;
   Shown shown_ = Shown::kElevation;
   QImage colored_;                        // the view box, one pixel per cell

@@ -107,7 +107,22 @@ StepApprovalPanel::StepApprovalPanel(QWidget* parent)
 
 void StepApprovalPanel::setAutoApprove(bool on) {
   if (auto_approve_->isChecked() != on) auto_approve_->setChecked(on);
+  showMode();
+}
+
+void StepApprovalPanel::setReplay(bool on) {
+  replay_ = on;
+  showMode();
+}
+
+void StepApprovalPanel::showMode() {
+  if (replay_) {
+    banner_->setText(tr("Replay: the decisions the log holds; nothing is sent"));
+    banner_->setStyleSheet("background:#546e7a;color:white");
+    return;
+  }
   // Visible from across the room: nobody is asked before the rover moves.
+  const bool on = auto_approve_->isChecked();
   banner_->setText(on ? tr("AUTO-APPROVE ON: steps that pass every interlock are sent")
                       : tr("Operator approval: every step waits for you"));
   banner_->setStyleSheet(on ? "background:#b71c1c;color:white;font-weight:bold"

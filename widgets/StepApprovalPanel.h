@@ -32,6 +32,8 @@ class StepApprovalPanel : public QWidget {
   // Whether Resume can restart a stopped walk.
   void setResumable(bool on);
   void setAutoApprove(bool on);
+  // A replay decides nothing: the banner says so instead of the live mode.
+  void setReplay(bool on);
 
   QPushButton* approveButton() const { return approve_; }
   QPushButton* rejectButton() const { return reject_; }
@@ -49,7 +51,10 @@ class StepApprovalPanel : public QWidget {
   void autoApproveChanged(bool on);
 
  private:
+  void showMode();
+
   std::optional<quint64> shown_;
+  bool replay_ = false;
   QLabel* banner_;
   QLabel* phase_;
   QLabel* why_;

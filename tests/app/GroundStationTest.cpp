@@ -663,6 +663,9 @@ class GroundStationTest : public QObject {
     for (QAction* live : {window.scanAction(), window.walkAction(), window.holdAction()})
       QVERIFY2(!live->isEnabled(), qPrintable(live->text()));
     QVERIFY(!c.panel.isEnabled());
+    // Not the live mode's banner: nothing in a replay waits for the operator.
+    QCOMPARE(c.panel.banner()->text(),
+             QString("Replay: the decisions the log holds; nothing is sent"));
 
     // The approval's row gives the time the step stopped waiting.
     const auto& rows = c.station.timeline()->rows();

@@ -84,6 +84,30 @@ class MapViewTest : public QObject {
     view.setMap(map);
     QVERIFY(barShowsTheTopColour());
   }
+
+  // A click asks to move a leg step's foothold; in a replay, which decides
+  // nothing, it does not.
+  void aClickMovesTheFootholdUnlessEditingIsOff() {
+    MapView view;
+    view.resize(520, 520);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    view.setMap(ElevationMap(GridSpec::covering({-7, -7, 7, 7}, 0.1)));
+    ambler::executive::StepProposal step;
+    step.id = 4;
+    step.plan.leg = 2;
+    view.setProposal(step);
+    QSignalSpy clicked(&view, &MapView::footholdClicked);
+    const QPoint at = view.widgetPointOf({1.0, 2.0}).toPoint();
+    QTest::mouseClick(&view, Qt::LeftButton, {}, at);
+    QCOMPARE(clicked.count(), 1);
+    QCOMPARE(clicked.front().at(0).toULongLong(), 4ull);
+    QVERIFY(std::abs(clicked.front().at(1).toDouble() - 1.0) < 0.05);
+    QVERIFY(std::abs(clicked.front().at(2).toDouble() - 2.0) < 0.05);
+    view.setFootholdEditable(false);
+    QTest::mouseClick(&view, Qt::LeftButton, {}, at);
+    QCOMPARE(clicked.count(), 1);
+  }
 };
 
 int main(int argc, char** argv) {
