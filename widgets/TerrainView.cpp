@@ -51,12 +51,13 @@ TerrainView::TerrainView(QWidget* parent)
 
 void TerrainView::pickGround(QPointF position) {
   if (!show_mesh_->isChecked()) return;
-  // The mesh is built only while its tab is looked at.
+  // The mesh is built while its tab is looked at, or when asked for here.
   if (mesh_outlines_.empty()) {
     QToolTip::showText(view_->mapToGlobal(position.toPoint()),
-                       tr("No terrain mesh yet: show the Terrain mesh tab to build it, then click "
-                          "the path's start and goal here"),
+                       tr("No terrain mesh yet: building it (a few seconds); click the path's "
+                          "start again once its outlines are drawn"),
                        view_);
+    emit meshWanted();
     return;
   }
   view_->pick(position, [this](std::optional<Eigen::Vector3d> at) {

@@ -74,6 +74,8 @@ class TerrainView : public QWidget {
   // A click on the ground while the terrain mesh and path are shown: a
   // start or goal for the path, in the world frame [m].
   void groundPicked(const Eigen::Vector2d& world_xy);
+  // A click for a path before there is a mesh to plan it on.
+  void meshWanted();
 
  private:
   // The scene in layers, each rebuilt only when what it draws changed: a

@@ -77,6 +77,8 @@ GroundStation::GroundStation(StationOptions options, QObject* parent)
   wireWindow();
   connect(window_.terrainView(), &widgets::TerrainView::groundPicked, &mesh_,
           &MeshController::pick);
+  connect(window_.terrainView(), &widgets::TerrainView::meshWanted, &mesh_,
+          &MeshController::requestMesh);
   connect(&mesh_, &MeshController::overlayChanged, this, [this] {
     window_.terrainView()->setMeshOverlay(mesh_.outlines(), mesh_.pathPoints());
     window_.terrainView()->setPathEnds(mesh_.start(), mesh_.goal());

@@ -110,8 +110,14 @@ void MeshController::newGround() {
   refresh();
 }
 
+void MeshController::requestMesh() {
+  requested_ground_ = ground_id_;
+  buildMesh();
+}
+
 void MeshController::buildMesh() {
-  if (!panel_shown_ || mesh_ || mesh_watcher_.isRunning()) return;
+  const bool wanted = panel_shown_ || requested_ground_ == ground_id_;
+  if (!wanted || mesh_ || mesh_watcher_.isRunning()) return;
   std::size_t points = 0;
   for (const auto& part : ground_) points += part->size();
   if (points < 3) return;

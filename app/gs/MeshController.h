@@ -44,6 +44,10 @@ class MeshController : public QObject {
   // A click in world coordinates [m]: the start, then the goal (planned),
   // then a new start.
   void pick(const Eigen::Vector2d& world_xy);
+  // Mesh the current ground even while the tab is hidden: the 3-D view
+  // was clicked for a path. A new ground is meshed only while the tab is
+  // shown, or on another such request.
+  void requestMesh();
 
   // The walk's scans registered so far, corrected, in the world frame.
   const std::vector<mapping::Cloud>& registeredScans() const { return chain_.registered(); }
@@ -92,6 +96,7 @@ class MeshController : public QObject {
 
   widgets::TerrainMeshPanel& panel_;
   bool panel_shown_ = false;
+  std::uint64_t requested_ground_ = ~std::uint64_t(0);  // requestMesh(); none yet
   // The ground: one scan's cloud, or the walk's registered scans.
   std::vector<std::shared_ptr<const mapping::Cloud>> ground_;
   std::uint64_t ground_id_ = 0;

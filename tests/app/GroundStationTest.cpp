@@ -856,6 +856,29 @@ class GroundStationTest : public QObject {
     QVERIFY2(error.isEmpty(), qPrintable(error));
   }
 
+  // A click in the 3-D view before the Terrain mesh tab was ever shown
+  // builds the mesh there and then; the clicks after it plan the path.
+  void aClickInThe3dViewBeforeAnyMeshBuildsOne() {
+    Console c;
+    auto& w = c.station.window();
+    auto& mesh = c.station.mesh();
+    QVERIFY(c.scan(1));
+    auto* view = w.terrainView()->view();
+    const auto at = view->widgetPointOf({0.0, 7.0, 0.0});
+    QVERIFY(at && view->rect().contains(at->toPoint()));
+    QSignalSpy built(&mesh, &ambler::gs::MeshController::meshBuilt);
+    QTest::mouseClick(view, Qt::LeftButton, {}, at->toPoint());
+    QVERIFY(built.wait(30000));
+    QVERIFY(!w.meshPanel()->isVisible());
+    QVERIFY(!mesh.start());  // that click only asked for the mesh
+    QSignalSpy picked(w.terrainView(), &ambler::widgets::TerrainView::groundPicked);
+    QTRY_VERIFY(!mesh.outlines().empty());
+    QTest::qWait(100);  // the outlines reach the view by a queued rebuild
+    QTest::mouseClick(view, Qt::LeftButton, {}, at->toPoint());
+    QVERIFY(picked.wait(5000));
+    QVERIFY(mesh.start());
+  }
+
   // A walk's scans, the second put 0.15 m and 2 degrees off by dead
   // reckoning: ICP in the background takes it back to within 3 cm and
   // 0.2 degrees, the mesh is of both, and the 3-D view draws both scans.

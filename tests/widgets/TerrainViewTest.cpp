@@ -132,9 +132,12 @@ class TerrainViewTest : public QObject {
     const auto shown = view.view()->widgetPointOf(target);
     QVERIFY(shown && view.view()->rect().contains(shown->toPoint()));
     const QPoint at = shown->toPoint();
-    // Without a mesh there is no path to start: the click says so.
+    // Without a mesh there is no path to start: the click asks for one
+    // and says so.
+    QSignalSpy wanted(&view, &TerrainView::meshWanted);
     QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
-    QTRY_VERIFY(QToolTip::text().contains("No terrain mesh yet"));
+    QTRY_VERIFY(QToolTip::text().contains("No terrain mesh yet: building it"));
+    QCOMPARE(wanted.count(), 1);
     QVERIFY(!picked.wait(300));
     view.setMeshOverlay({{{0, 0, 0}, {1, 0, 0}}}, {});  // any mesh
     QTest::mouseClick(view.view(), Qt::LeftButton, {}, at);
