@@ -916,7 +916,7 @@ TEST(Executive, ResumedDuringAMoveTheWalkWaitsForTheMoveToEnd) {
 TEST(Executive, AConsoleWaitingForTheRoversStateKeepsTheLinkAlive) {
   Console c;
   c.link.lose_states = true;
-  c.executive.start(c.now);
+  c.executive.start(c.now, true);  // its Resume starts the rover's link watch
   const auto& events = c.executive.events();
   c.pollUntil([&] { return !events.empty(); }, 4.0);  // longer than the rover's 3 s link timeout
   EXPECT_EQ(c.executive.phase(), Phase::kConnecting);
