@@ -6,11 +6,15 @@
 // watches and records; --take-over watches until SIGUSR1, then asks for
 // command authority and walks once it has it; --hand-over gives authority,
 // between two steps, to a console that asks.
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <iterator>
 #include <memory>
+#include <optional>
 #include <set>
+#include <vector>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
@@ -66,8 +70,24 @@ class ConsoleLink : public link::Link {
       if (const auto* a = std::get_if<link::CommandAck>(&t.body)) onAck(*a, t.time_s);
       if (const auto* h = std::get_if<link::Heartbeat>(&t.body))
         onHeartbeat(*h), last_heartbeat_s_ = t.time_s;
+      if (const auto* leg = std::get_if<link::LegState>(&t.body);
+          leg && leg->leg >= 0 && leg->leg < gait::kLegCount)
+        state_[std::size_t(leg->leg)] = t;
+      if (std::holds_alternative<link::BodyState>(t.body)) state_.back() = t;
     }
+    in.insert(in.begin(), std::make_move_iterator(replay_.begin()),
+              std::make_move_iterator(replay_.end()));
+    replay_.clear();
     return in;
+  }
+  // The next receive() hands on again the newest leg and body states this
+  // link has seen: a walk that starts after the console read them (waiting
+  // for command authority) learns from them where the rover stands, and
+  // whether a move is under way, which a rover mid-move would not report
+  // again before the move's end.
+  void replayState() {
+    for (const auto& t : state_)
+      if (t) replay_.push_back(*t);
   }
   std::string describe() const override { return inner_.describe(); }
 
@@ -125,6 +145,8 @@ class ConsoleLink : public link::Link {
   }
 
   link::Link& inner_;
+  std::array<std::optional<link::Telemetry>, gait::kLegCount + 1> state_;  // legs, then the body
+  std::vector<link::Telemetry> replay_;
   std::string me_, holder_, request_;
   std::optional<double> approved_s_;
   std::optional<std::pair<std::uint64_t, double>> first_move_;  // sequence, approved at
@@ -278,7 +300,9 @@ int walk(Console& c, link::CommandSigner& signer, const DriveArgs& a, double sta
       printLine({{"event", executive.events()[printed].what}, {"t_s", now_s - start_s}});
   };
   // A console that took over has watched the rover's state go by; a Resume
-  // has the rover report it all again (and ends a hold).
+  // has the rover report it all again (and ends a hold), unless a move is
+  // under way: what it saw is handed on, which says so.
+  if (a.resume || a.take_over) c.link.replayState();
   executive.start(link::utcNowS(), a.resume || a.take_over);
   std::string stopped;
   std::optional<bool> stale;

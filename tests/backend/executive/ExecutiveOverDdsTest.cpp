@@ -307,6 +307,53 @@ TEST(ExecutiveOverDds, AConsoleJoiningWhileAMoveIsUnderWayScansAfterItsEnd) {
     EXPECT_EQ(e.what.find("refused"), std::string::npos) << e.what;
 }
 
+// The same with the joining console an `ambler-cli drive --resume`, which
+// reads the rover's state while it waits for command authority, before its
+// walk begins: the walk is handed that state, so it too waits for the move
+// under way to end, says so, and its scan is accepted.
+TEST(ExecutiveOverDds, ADriveJoiningWhileAMoveIsUnderWayScansAfterItsEnd) {
+  TempDir dir;
+  const auto domain = testDomain();
+  SimProcess sim(dir, domain, 2.0, 0.8);
+  char line[4096];
+  {
+    const auto [first, lines] =
+        startDrive(dir, domain, dir / "first.db", {"--steps", "5", "--auto-approve"});
+    ASSERT_GE(first, 0);
+    bool moving = false;
+    const auto start = Clock::now();
+    while (!moving && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
+      const auto j = nlohmann::json::parse(line);
+      moving = j.contains("ack") && j["accepted"].get<bool>() && j["command"] == "BodyMove";
+    }
+    ASSERT_TRUE(moving) << "the first console did not move the rover";
+    ::kill(first, SIGKILL);
+    std::fclose(lines);
+    ::waitpid(first, nullptr, 0);
+  }
+  const auto [second, lines] =
+      startDrive(dir, domain, dir / "second.db", {"--steps", "1", "--auto-approve", "--resume"});
+  ASSERT_GE(second, 0);
+  std::vector<std::string> events;
+  std::optional<nlohmann::json> scan_ack;
+  const auto start = Clock::now();
+  while (!scan_ack && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
+    const auto j = nlohmann::json::parse(line);
+    if (j.contains("event")) events.push_back(j["event"]);
+    if (j.contains("ack") && j.value("command", "") == "AcquireScan") scan_ack = j;
+  }
+  ::kill(second, SIGKILL);
+  std::fclose(lines);
+  ::waitpid(second, nullptr, 0);
+  ASSERT_TRUE(scan_ack) << "the second console sent no scan";
+  EXPECT_TRUE(scan_ack->value("accepted", false)) << scan_ack->dump();
+  const auto said = [&](const std::string& what) {
+    return std::find(events.begin(), events.end(), what) != events.end();
+  };
+  EXPECT_TRUE(said("connected: the rover reports a move under way; the scan waits for its end"));
+  EXPECT_TRUE(said("the rover reports the move under way ended"));
+}
+
 // A rover that reports its state and heartbeat but answers no command: the
 // console (ambler-cli drive) suspends at its ack timeout, says which
 // commands it still waits for, and at its own timeout names them again.
