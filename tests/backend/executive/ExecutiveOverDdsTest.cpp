@@ -110,6 +110,27 @@ std::pair<pid_t, FILE*> startDrive(const TempDir& dir, std::uint32_t domain,
   return {pid, ::fdopen(out[0], "r")};
 }
 
+// An auto-approving ambler-cli drive killed with SIGKILL as soon as the
+// rover has acknowledged its first BodyMove, so that the move is still
+// under way on a rover whose moves take their time. False if it never
+// moved the rover within a minute.
+[[nodiscard]] bool killADriveMidBodyMove(const TempDir& dir, std::uint32_t domain) {
+  const auto [console, lines] =
+      startDrive(dir, domain, dir / "first.db", {"--steps", "5", "--auto-approve"});
+  if (console < 0) return false;
+  char line[4096];
+  bool moving = false;
+  const auto start = Clock::now();
+  while (!moving && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
+    const auto j = nlohmann::json::parse(line);
+    moving = j.contains("ack") && j["accepted"].get<bool>() && j["command"] == "BodyMove";
+  }
+  ::kill(console, SIGKILL);
+  std::fclose(lines);
+  ::waitpid(console, nullptr, 0);
+  return moving;
+}
+
 // What a log holds: commands by sequence, acknowledgements by sequence.
 struct LoggedTraffic {
   std::map<std::uint64_t, std::string> commands;
@@ -264,20 +285,7 @@ TEST(ExecutiveOverDds, AConsoleJoiningWhileAMoveIsUnderWayScansAfterItsEnd) {
   const auto domain = testDomain();
   SimProcess sim(dir, domain, 1.0, 0.8);
   link::dds::DdsLink monitor(domain, 1);
-  const auto [console, lines] =
-      startDrive(dir, domain, dir / "first.db", {"--steps", "5", "--auto-approve"});
-  ASSERT_GE(console, 0);
-  char line[4096];
-  bool moving = false;
-  const auto start = Clock::now();
-  while (!moving && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
-    const auto j = nlohmann::json::parse(line);
-    moving = j.contains("ack") && j["accepted"].get<bool>() && j["command"] == "BodyMove";
-  }
-  ASSERT_TRUE(moving) << "the first console did not move the rover";
-  ::kill(console, SIGKILL);
-  std::fclose(lines);
-  ::waitpid(console, nullptr, 0);
+  ASSERT_TRUE(killADriveMidBodyMove(dir, domain)) << "the first console did not move the rover";
   bool lapsed = false;  // the rover holds for the lost link, and nobody holds authority
   const auto killed = Clock::now();
   while (!lapsed && secondsSince(killed) < 10)
@@ -315,27 +323,13 @@ TEST(ExecutiveOverDds, ADriveJoiningWhileAMoveIsUnderWayScansAfterItsEnd) {
   TempDir dir;
   const auto domain = testDomain();
   SimProcess sim(dir, domain, 2.0, 0.8);
-  char line[4096];
-  {
-    const auto [first, lines] =
-        startDrive(dir, domain, dir / "first.db", {"--steps", "5", "--auto-approve"});
-    ASSERT_GE(first, 0);
-    bool moving = false;
-    const auto start = Clock::now();
-    while (!moving && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
-      const auto j = nlohmann::json::parse(line);
-      moving = j.contains("ack") && j["accepted"].get<bool>() && j["command"] == "BodyMove";
-    }
-    ASSERT_TRUE(moving) << "the first console did not move the rover";
-    ::kill(first, SIGKILL);
-    std::fclose(lines);
-    ::waitpid(first, nullptr, 0);
-  }
+  ASSERT_TRUE(killADriveMidBodyMove(dir, domain)) << "the first console did not move the rover";
   const auto [second, lines] =
       startDrive(dir, domain, dir / "second.db", {"--steps", "1", "--auto-approve", "--resume"});
   ASSERT_GE(second, 0);
   std::vector<std::string> events;
   std::optional<nlohmann::json> scan_ack;
+  char line[4096];
   const auto start = Clock::now();
   while (!scan_ack && secondsSince(start) < 60 && std::fgets(line, sizeof line, lines)) {
     const auto j = nlohmann::json::parse(line);
