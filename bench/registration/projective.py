@@ -96,8 +96,9 @@ class RangeImage:
 
     def interpolate(self, column, row):
         """Bilinear range at fractional directions, and the sum of squared weights."""
-        cf = (column - self.col0) / self.col_step
-        rf = (row - self.row0) / self.row_step
+        # A direction that is not finite falls off the image, as -1.
+        cf = np.nan_to_num((column - self.col0) / self.col_step, nan=-1.0)
+        rf = np.nan_to_num((row - self.row0) / self.row_step, nan=-1.0)
         rows, cols = self.range.shape
         c0 = np.floor(cf).astype(int)
         r0 = np.floor(rf).astype(int)
@@ -126,12 +127,28 @@ def motion(x):
     return t
 
 
-def residuals(transform, source, source_rho, image, k):
-    placed = source @ transform[:3, :3].T + transform[:3, 3]
+PROPAGATE_SOURCE_NOISE = False
+
+
+def range_residual(placed, image):
     rho, column, row = ray_angles(placed)
     target_rho, weights2 = image.interpolate(column, row)
-    variance = (k * target_rho**2)**2 * weights2 + (k * source_rho**2)**2 + POINT_FLOOR_M**2
-    return rho - target_rho, variance
+    return rho - target_rho, target_rho, weights2
+
+
+def residuals(transform, source, source_rho, image, k):
+    placed = source @ transform[:3, :3].T + transform[:3, 3]
+    e, target_rho, weights2 = range_residual(placed, image)
+    gain = 1.0
+    if PROPAGATE_SOURCE_NOISE:
+        # How much the residual moves when the source point moves along its
+        # own ray, where its noise lies (1 cm, a first-order propagation).
+        along = (source / source_rho[:, None]) @ transform[:3, :3].T
+        gain = (range_residual(placed + 0.01 * along, image)[0] - e) / 0.01
+    variance = ((k * target_rho**2)**2 * weights2 + (k * source_rho**2 * gain)**2 +
+                POINT_FLOOR_M**2)
+    # A point whose step along its ray leaves the image is left out with it.
+    return np.where(np.isfinite(variance), e, np.nan), variance
 
 
 def cost(transform, source, source_rho, image, k):
@@ -207,7 +224,12 @@ def main():
     parser.add_argument("pairs", help="pairs.json of sim-pairs (levelled clouds are used)")
     parser.add_argument("--start", choices=["truth", "guess", "register"], default="truth")
     parser.add_argument("--iterations", type=int, default=100)
+    parser.add_argument("--propagate-source-noise", action="store_true",
+                        help="the source point's noise through the residual's change along its "
+                             "ray, instead of as it is")
     a = parser.parse_args()
+    global PROPAGATE_SOURCE_NOISE
+    PROPAGATE_SOURCE_NOISE = a.propagate_source_noise
     pairs = [p for p in json.load(open(a.pairs))["pairs"] if not p["foreign"]]
     landed = started = 0
     for pair in pairs:
