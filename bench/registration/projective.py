@@ -36,6 +36,8 @@ import subprocess
 
 import numpy as np
 
+from bound import read_pcd
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 CLI = os.path.join(HERE, "..", "..", "build", "bin", "ambler-cli")
 POINT_FLOOR_M = 0.002
@@ -43,22 +45,12 @@ HUBER_SIGMAS = 2.0
 MAX_RESIDUAL_M = 0.5
 
 
-def read_pcd(path):
-    """Points of a binary x y z float PCD whose VIEWPOINT is the origin."""
-    header = {}
-    with open(path, "rb") as f:
-        while True:
-            key, *values = f.readline().decode().split()
-            header[key] = values
-            if key == "DATA":
-                break
-        if header["DATA"] != ["binary"] or header["FIELDS"] != ["x", "y", "z"]:
-            raise SystemExit(f"{path}: expected a binary x y z PCD")
-        if [float(v) for v in header["VIEWPOINT"][:3]] != [0.0, 0.0, 0.0]:
-            raise SystemExit(f"{path}: expected the levelled cloud (VIEWPOINT at the origin)")
-        n = int(header["POINTS"][0])
-        points = np.frombuffer(f.read(12 * n), dtype="<f4").reshape(n, 3).astype(float)
-    return points[np.isfinite(points).all(1)]
+def read_levelled(path):
+    """Points of a levelled sim-pairs cloud (its VIEWPOINT at the origin)."""
+    points, viewpoint = read_pcd(path)
+    if viewpoint.any():
+        raise SystemExit(f"{path}: expected the levelled cloud (VIEWPOINT at the origin)")
+    return points
 
 
 def ray_angles(points):
@@ -236,8 +228,8 @@ def main():
         frame = pair["levelled"]
         truth = np.array(frame["truth"])
         start = start_of(pair, frame, a.start)
-        image = RangeImage(read_pcd(frame["target"]))
-        source = read_pcd(frame["source"])
+        image = RangeImage(read_levelled(frame["target"]))
+        source = read_levelled(frame["source"])
         found, found_cost = fit(start, source, image, pair["noise_k"], a.iterations)
         truth_cost = cost(truth, source, np.linalg.norm(source, axis=1), image, pair["noise_k"])
         before, after = error(start, truth, pair["distance_m"]), error(found, truth, pair["distance_m"])
