@@ -143,12 +143,16 @@ def residuals(transform, source, source_rho, image, k):
     return np.where(np.isfinite(variance), e, np.nan), variance
 
 
-def cost(transform, source, source_rho, image, k):
-    """Huber cost of the residuals; a point off the target's image (or farther
-    off than MAX_RESIDUAL_M) counts as one at 3 sigma, so that a motion cannot
+def inside(e):
+    """Residuals on the target's image and within MAX_RESIDUAL_M."""
+    return np.isfinite(e) & (np.abs(e) < MAX_RESIDUAL_M)
+
+
+def cost(e, variance):
+    """Huber cost of residuals; a point off the target's image (or farther off
+    than MAX_RESIDUAL_M) counts as one at 3 sigma, so that a motion cannot
     lower the cost by losing overlap."""
-    e, variance = residuals(transform, source, source_rho, image, k)
-    used = np.isfinite(e) & (np.abs(e) < MAX_RESIDUAL_M)
+    used = inside(e)
     z = np.abs(e[used]) / np.sqrt(variance[used])
     h = HUBER_SIGMAS
     return (np.where(z < h, 0.5 * z * z, h * z - 0.5 * h * h).sum() +
@@ -159,10 +163,10 @@ def fit(start, source, image, k, iterations):
     """Levenberg-Marquardt: a step is taken only where it lowers the cost."""
     transform = start.copy()
     source_rho = np.linalg.norm(source, axis=1)
-    damping, current = 1e-3, cost(transform, source, source_rho, image, k)
+    e, variance = residuals(transform, source, source_rho, image, k)
+    damping, current = 1e-3, cost(e, variance)
     for _ in range(iterations):
-        e, variance = residuals(transform, source, source_rho, image, k)
-        used = np.isfinite(e) & (np.abs(e) < MAX_RESIDUAL_M)
+        used = inside(e)
         jacobian = np.zeros((used.sum(), 6))
         for j in range(6):  # central differences: 0.1 mm, 0.01 mrad
             dx = np.zeros(6)
@@ -178,9 +182,11 @@ def fit(start, source, image, k, iterations):
         for _ in range(10):
             step = -np.linalg.solve(normal + damping * np.diag(np.diag(normal)), gradient)
             moved = motion(step) @ transform
-            moved_cost = cost(moved, source, source_rho, image, k)
+            moved_e, moved_variance = residuals(moved, source, source_rho, image, k)
+            moved_cost = cost(moved_e, moved_variance)
             if moved_cost < current:
                 transform, current, damping = moved, moved_cost, max(damping / 3, 1e-6)
+                e, variance = moved_e, moved_variance
                 break
             damping *= 4
         else:
@@ -231,7 +237,8 @@ def main():
         image = RangeImage(read_levelled(frame["target"]))
         source = read_levelled(frame["source"])
         found, found_cost = fit(start, source, image, pair["noise_k"], a.iterations)
-        truth_cost = cost(truth, source, np.linalg.norm(source, axis=1), image, pair["noise_k"])
+        truth_cost = cost(*residuals(truth, source, np.linalg.norm(source, axis=1), image,
+                                     pair["noise_k"]))
         before, after = error(start, truth, pair["distance_m"]), error(found, truth, pair["distance_m"])
         within = [e <= 1.0 and angle <= 0.5 for e, angle in (before, after)]
         started += within[0]
