@@ -329,6 +329,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"grazing_baseline_rows", a.locus.edges.grazing_baseline_rows},
       {"grazing_baseline_noise_sigmas", a.locus.edges.grazing_baseline_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
+      {"max_gap_hidden_by_noise_m", a.locus.max_gap_hidden_by_noise_m},
       {"curved_between_scanlines", a.locus.curved_between_scanlines},
       {"undecided_before_shadow_steps", a.locus.undecided_before_shadow},
       {"undecided_shadow_far_end_share", a.locus.undecided_shadow_far_end},

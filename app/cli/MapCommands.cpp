@@ -1,5 +1,8 @@
+#include <cmath>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "cli/Arguments.h"
 #include "cli/Commands.h"
@@ -11,6 +14,22 @@
 namespace ambler::cli {
 
 namespace {
+
+// A length [m] above zero, or inf to turn its rule off. CLI11's
+// PositiveNumber refuses inf and lets NaN through.
+const CLI::Validator kLengthOrInf(
+    [](std::string& text) -> std::string {
+      double v = NAN;
+      std::size_t used = 0;
+      try {
+        v = std::stod(text, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != text.size() || !(v > 0))
+        return "'" + text + "' is not a length above 0 [m] or inf";
+      return {};
+    },
+    "LENGTH|inf");
 
 struct MapArgs {
   std::string range;
@@ -94,7 +113,12 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
       ->capture_default_str();
   cmd.add_option("--max-sample-spacing", locus.max_sample_spacing_m,
                  "cells between samples farther apart on the ground are unknown [m]; inf: off")
-      ->check(CLI::PositiveNumber)
+      ->check(kLengthOrInf)
+      ->capture_default_str();
+  cmd.add_option("--max-gap-hidden-by-noise", locus.max_gap_hidden_by_noise_m,
+                 "cells whose range noise could hide a gap in the ground this long from the "
+                 "occluding-edge test are oblique [m]; inf: off")
+      ->check(kLengthOrInf)
       ->capture_default_str();
   cmd.add_option("--curved-between-scanlines", locus.curved_between_scanlines,
                  "the surface between two scanlines follows a spline through them and the "

@@ -194,6 +194,9 @@ class LocusSolver {
   double undecided_steps_ = 0.0;  // LocusOptions::undecided_before_shadow
   double far_end_share_ = 0.0;    // LocusOptions::undecided_shadow_far_end
   double cos_crest_ = 1.0;        // cos(LocusOptions::crest_max_angle_deg)
+  // Beyond this range a quad's noise may hide a gap (LocusOptions::
+  // max_gap_hidden_by_noise_m) [m].
+  double max_sure_range_ = INFINITY;
   Eigen::Matrix3d world_to_sensor_;
   Eigen::Vector3d origin_, b_;
   const double *sin_phi_, *cos_phi_;  // per scanline (LocusTables::sinPhi(), cosPhi())
@@ -236,6 +239,10 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
   b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
   origin_ = image.sensor_to_world.translation();
+  if (image.range_sigma_k > 0)
+    max_sure_range_ =
+        std::sqrt(options.max_gap_hidden_by_noise_m /
+                  (options.edges.noise_sigmas * std::sqrt(2.0) * image.range_sigma_k));
   for (int r = 0; r < g_.rows; ++r) {
     const double den = b_.z() * cos_phi_[r] - b_.y() * sin_phi_[r];
     inverse_den_.push_back(std::abs(den) < 1e-12 ? NAN : 1.0 / den);
@@ -572,8 +579,12 @@ CellResult LocusSolver::finish(const Line& line, Bracket& br, double t, double u
     return {CellState::kUnknown};
   const HeightNoise noise = sigmaOfHeight(line, br, u, col, quad_col);
   const double sampling = tables_.samplingSigma(quad_row, quad_col);
-  const auto state =
-      edges_.quadIsGrazing(quad_row, quad_col) ? CellState::kOblique : CellState::kKnown;
+  const double* q = range_ + std::size_t(quad_row) * g_.cols + quad_col;
+  const bool noise_may_hide_gap =
+      std::max(std::max(q[0], q[1]), std::max(q[g_.cols], q[g_.cols + 1])) > max_sure_range_;
+  const auto state = edges_.quadIsGrazing(quad_row, quad_col) || noise_may_hide_gap
+                         ? CellState::kOblique
+                         : CellState::kKnown;
   return {state, t, std::sqrt(noise.sigma * noise.sigma + sampling * sampling), noise};
 }
 

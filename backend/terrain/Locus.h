@@ -20,6 +20,14 @@ struct LocusOptions {
   // distance between data points). The Ambler's foot is 0.3 m across: a
   // hole it could step into fits between sparser samples. INFINITY: off.
   double max_sample_spacing_m = 0.3;
+  // Cells of quads whose range noise could hide a gap in the ground this
+  // long from the occluding-edge test are oblique: such a shadow makes a
+  // range jump about as long, which the test takes for noise while it is
+  // within edges.noise_sigmas sqrt(2) k rho^2 (a pair's allowance). Their
+  // heights were measured, but a hole the foot could step into may lie
+  // between them unseen: the sparse-sample rule above for noisy ranges
+  // (docs/elevation-maps.md). Positive; INFINITY: off.
+  double max_gap_hidden_by_noise_m = 0.3;
   // Shadow cells closer to the occluder's last sample than this many of the
   // samples' steps before it are unknown instead: the edge may lie anywhere
   // up to the next step, and ground before it was seen, if at all, at the
@@ -64,8 +72,8 @@ struct LocusOptions {
 // (Lagrange, i.e. bilinear in phi and theta). A cell whose intersection lies
 // in a quad of pixels across an occluding edge is shadow; a cell whose line
 // leaves the image, or meets pixels without returns, is unknown; one in a
-// quad of ground seen at a grazing angle is oblique (OccludingEdgeOptions::
-// mark_grazing). Elevations
+// quad of ground seen at a grazing angle (OccludingEdgeOptions::
+// mark_grazing), or whose noise could hide a gap, is oblique. Elevations
 // are in the world frame of image.sensor_to_world; sigma follows
 // docs/elevation-uncertainty.md.
 ElevationMap buildLocusMap(const sensor::RangeImage& image, const GridSpec& grid,

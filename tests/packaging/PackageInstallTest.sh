@@ -53,8 +53,10 @@ QT_QPA_PLATFORM=offscreen env -u AMBLER_DATA_DIR "$root/usr/bin/ambler-gs" --ver
 # An evaluation from the installed tree: locus maps and binned maps of two
 # simulated scans against the simulator's truth (its table: method, k,
 # rmse_m, coverage, ...). The locus method must beat binning at both noise
-# levels and know over 85 % of the visible cells (on this 5 m, 30 degree
-# view 89-96 %; of the rest, ground seen at a grazing angle is oblique).
+# levels and know over 85 % of the visible cells without noise (on this 5 m,
+# 30 degree view 95 %; of the rest, ground seen at a grazing angle is
+# oblique) and over half with it (58 %: ground beyond 16.3 m, whose noise
+# could hide a foot-sized gap, is oblique too).
 env -u AMBLER_DATA_DIR "$cli" eval elevation --families course --seeds 1 --poses 5:30 \
   --noise 0,2e-4 \
   > "$scratch/eval.txt" 2> /dev/null || fail "eval elevation"
@@ -66,7 +68,7 @@ awk '$1 == "binning" { binning[$2] = $3 }
        n = 0
        for (k in locus) {
          n++
-         if (!(locus[k] > 0 && locus[k] < binning[k] && coverage[k] > 0.85)) exit 1
+         if (!(locus[k] > 0 && locus[k] < binning[k] && coverage[k] > (k + 0 == 0 ? 0.85 : 0.5))) exit 1
        }
        exit n != 2
      }' "$scratch/eval.txt" || fail "eval elevation from the package: locus does not beat binning"
