@@ -40,6 +40,14 @@ struct MapArgs {
   terrain::LocusOptions locus;
 };
 
+// Where the locus map stops calling ground known because its range noise
+// could hide a foot-sized gap [m]; null without noise or for binning.
+nlohmann::json obliqueBeyond(const MapArgs& a, const sensor::RangeImage& image) {
+  const double range = terrain::rangeWhereNoiseMayHideGap(image.range_sigma_k, a.locus);
+  if (a.method != "locus" || !std::isfinite(range)) return nullptr;
+  return range;
+}
+
 void runMap(const MapArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const auto image = sensor::readRangeImage(a.range);
@@ -58,6 +66,7 @@ void runMap(const MapArgs& a) {
              {"shadow", map.countOf(terrain::CellState::kShadow)},
              {"unknown", map.countOf(terrain::CellState::kUnknown)},
              {"oblique", map.countOf(terrain::CellState::kOblique)},
+             {"oblique_beyond_m", obliqueBeyond(a, image)},
              {"build_ms", build_ms},
              {"elapsed_ms", millisecondsSince(start)}});
 }

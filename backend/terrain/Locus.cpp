@@ -239,10 +239,7 @@ LocusSolver::LocusSolver(const RangeImage& image, const OccludingEdges& edges, d
   world_to_sensor_ = image.sensor_to_world.linear().transpose();
   b_ = world_to_sensor_ * Eigen::Vector3d::UnitZ();
   origin_ = image.sensor_to_world.translation();
-  if (image.range_sigma_k > 0)
-    max_sure_range_ =
-        std::sqrt(options.max_gap_hidden_by_noise_m /
-                  (options.edges.noise_sigmas * std::sqrt(2.0) * image.range_sigma_k));
+  max_sure_range_ = rangeWhereNoiseMayHideGap(image.range_sigma_k, options);
   for (int r = 0; r < g_.rows; ++r) {
     const double den = b_.z() * cos_phi_[r] - b_.y() * sin_phi_[r];
     inverse_den_.push_back(std::abs(den) < 1e-12 ? NAN : 1.0 / den);
@@ -854,6 +851,12 @@ void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bo
 }
 
 }  // namespace
+
+double rangeWhereNoiseMayHideGap(double k, const LocusOptions& options) {
+  if (!(k > 0)) return INFINITY;
+  return std::sqrt(options.max_gap_hidden_by_noise_m /
+                   (options.edges.noise_sigmas * std::sqrt(2.0) * k));
+}
 
 ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
                            const LocusOptions& options) {

@@ -79,4 +79,9 @@ struct LocusOptions {
 ElevationMap buildLocusMap(const sensor::RangeImage& image, const GridSpec& grid,
                            const LocusOptions& options = {});
 
+// The range beyond which noise k (sigma = k rho^2) could hide a gap of
+// options.max_gap_hidden_by_noise_m from the edge test, so that the map
+// has the ground there as oblique [m]; INFINITY without noise.
+double rangeWhereNoiseMayHideGap(double k, const LocusOptions& options);
+
 }  // namespace ambler::terrain

@@ -462,6 +462,8 @@ TEST(Cli, MapWritesTheElevationMapOfAScanWithTheTruthGrid) {
   const auto run = runCli("map --range " + (dir / "scan.tif").string() +
                           " --region=-6,6,6,16 --resolution 0.05 --out " + (dir / "map").string());
   ASSERT_EQ(run.exit_code, 0) << run.out;
+  // The scanner's k = 2e-4: sqrt(0.3 m / (4 sqrt(2) k)).
+  EXPECT_NEAR(nlohmann::json::parse(run.out)["oblique_beyond_m"].get<double>(), 16.28, 0.01);
   for (const char* f : {"elevation.tif", "sigma.tif", "state.tif", "count.tif", "map.json"})
     EXPECT_TRUE(std::filesystem::exists(dir / "map" / f)) << f;
   const auto header = nlohmann::json::parse(std::ifstream(dir / "map" / "map.json"));
