@@ -331,6 +331,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},
       {"max_gap_hidden_by_noise_m", a.locus.max_gap_hidden_by_noise_m},
       {"curved_between_scanlines", a.locus.curved_between_scanlines},
+      {"face_side_noise_sigmas", a.locus.face_side_noise_sigmas},
       {"undecided_before_shadow_steps", a.locus.undecided_before_shadow},
       {"undecided_shadow_far_end_share", a.locus.undecided_shadow_far_end},
       {"crest_max_angle_deg", a.locus.crest_max_angle_deg},

@@ -129,6 +129,11 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "occluding-edge test are oblique [m]; inf: off")
       ->check(kLengthOrInf)
       ->capture_default_str();
+  cmd.add_option("--face-side-noise", locus.face_side_noise_sigmas,
+                 "cells beside a face across the line of sight whose heights lie beyond this many "
+                 "std. dev. of the face's middle have the face in their sigma; 0: off")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
   cmd.add_option("--curved-between-scanlines", locus.curved_between_scanlines,
                  "the surface between two scanlines follows a spline through them and the "
                  "scanlines either side, not their chord; false: the paper's bilinear surface "

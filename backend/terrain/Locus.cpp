@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "terrain/LocusTables.h"
@@ -80,6 +82,10 @@ struct CellResult {
   // a crest's shadow's far end, or in a border pixel's footprint (walk()).
   // Unknown once the shadow's sides are marked.
   bool undecided = false;
+  // Along a face, where the height is the middle of the band in which the
+  // line runs within the noise of the surface: sigma without the band.
+  // NaN elsewhere.
+  double face_noise = NAN;
 };
 
 // The heights of the line over which Delta is within the noise of zero.
@@ -315,6 +321,7 @@ CellResult LocusSolver::solve(double x, double y, double z_guess, double row_hin
   const double excess =
       band.height() - std::max(by_crossing, band.explainedByNoise(pixel_sigma, height_per_row));
   if (excess > 0) {
+    result.face_noise = result.sigma;
     result.z = 0.5 * (band.top + band.bottom);
     result.sigma = std::sqrt(result.sigma * result.sigma + excess * excess / 12);
   }
@@ -852,6 +859,49 @@ void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bo
 
 }  // namespace
 
+void widenSigmaBesideFaces(ElevationMap& map, const std::vector<float>& face_noise,
+                           const Eigen::Vector2d& sensor, double noise_sigmas) {
+  if (!(noise_sigmas > 0)) return;
+  const GridSpec& g = map.grid();
+  if (face_noise.size() != std::size_t(g.rows) * g.cols)
+    throw std::invalid_argument("widenSigmaBesideFaces: face_noise is not the size of the map");
+  // Decided on the sigmas as the solver left them, then applied: a cell
+  // may be beside two faces, and a face cell beside another.
+  std::vector<std::pair<std::size_t, double>> spreads;
+  const float* faces = face_noise.data();
+  for (std::size_t i = 0; i < face_noise.size(); ++i) {
+    if (std::isnan(faces[i])) continue;  // nearly every cell: kept to one test
+    const int r = int(i / std::size_t(g.cols)), c = int(i % std::size_t(g.cols));
+    const double noise = faces[i];
+    if (!map.hasHeight(r, c)) continue;
+    const Eigen::Vector2d along = g.cellCenter(r, c) - sensor;
+    const int dr = roundedStep(along.x(), along.y(), 1);
+    const int dc = -roundedStep(along.y(), along.x(), 1);
+    for (const int side : {1, -1}) {
+      const int nr = r + side * dr, nc = c + side * dc;
+      if (nr < 0 || nr >= g.rows || nc < 0 || nc >= g.cols || !map.hasHeight(nr, nc)) continue;
+      // A face rises from the neighbour's height (or falls to it): the
+      // band's middle lies beyond the noise of both. Far ground under
+      // heavy noise makes bands about the ground's height too, no face.
+      const double offset = std::abs(double(map.elevation(r, c)) - map.elevation(nr, nc));
+      const double s = map.sigma(nr, nc);
+      if (offset * offset > noise_sigmas * noise_sigmas * (s * s + noise * noise))
+        spreads.emplace_back(std::size_t(nr) * g.cols + nc,
+                             offset + std::sqrt(3.0) * map.sigma(r, c));
+    }
+  }
+  // The largest spread of each cell last.
+  std::sort(spreads.begin(), spreads.end());
+  for (std::size_t k = 0; k < spreads.size(); ++k) {
+    const auto [i, w] = spreads[k];
+    if (k + 1 < spreads.size() && spreads[k + 1].first == i) continue;
+    const int r = int(i / std::size_t(g.cols)), c = int(i % std::size_t(g.cols));
+    const double s = map.sigma(r, c);
+    map.setHeight(r, c, map.state(r, c), map.elevation(r, c), std::sqrt(s * s + w * w / 12),
+                  map.count(r, c));
+  }
+}
+
 double rangeWhereNoiseMayHideGap(double k, const LocusOptions& options) {
   if (!(k > 0)) return INFINITY;
   return std::sqrt(options.max_gap_hidden_by_noise_m /
@@ -867,6 +917,7 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
       options.epsilon_rad > 0 ? options.epsilon_rad : std::abs(image.geometry.phi_step) / 4;
   const LocusSolver solver(image, edges, epsilon, options);
   std::vector<std::uint8_t> undecided(std::size_t(grid.rows) * grid.cols, 0);
+  std::vector<float> face_noise(undecided.size(), NAN);
   const double start_z = solver.typicalHeight();
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
@@ -879,6 +930,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
       const auto result = solver.solve(p.x(), p.y(), z_guess, row_hint);
       row_hint = result.row;
       undecided[std::size_t(r) * grid.cols + c] = result.undecided;
+      if (!std::isnan(result.face_noise))
+        face_noise[std::size_t(r) * grid.cols + c] = float(result.face_noise);
       if (hasHeight(result.state))
         map.setHeight(r, c, result.state, result.z, result.sigma);
       else
@@ -894,6 +947,8 @@ ElevationMap buildLocusMap(const RangeImage& image, const GridSpec& grid,
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c)
       if (undecided[std::size_t(r) * grid.cols + c]) map.setUnobserved(r, c, CellState::kUnknown);
+  widenSigmaBesideFaces(map, face_noise, image.sensor_to_world.translation().head<2>(),
+                        options.face_side_noise_sigmas);
   return map;
 }
 

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "core/GridSpec.h"
 #include "sensor/RangeImage.h"
 #include "terrain/ElevationMap.h"
@@ -59,6 +62,10 @@ struct LocusOptions {
   // line of sight, where a hidden floor meets the far wall's interpolated
   // face.
   bool oblique_shadow_far_ends = true;
+  // Cells with a height beside a face across the line of sight, whose
+  // heights lie beyond this many standard deviations of the face band's
+  // middle, have the band in their sigma (widenSigmaBesideFaces). 0: off.
+  double face_side_noise_sigmas = 3.0;
   int threads = 0;  // OpenMP threads; 0 means the OpenMP default
 };
 
@@ -78,6 +85,23 @@ struct LocusOptions {
 // docs/elevation-uncertainty.md.
 ElevationMap buildLocusMap(const sensor::RangeImage& image, const GridSpec& grid,
                            const LocusOptions& options = {});
+
+// A face's position across the line of sight is known to no better than
+// the spacing of the image's columns, about a cell: between two columns,
+// one on a box's face and one passing beside the box, the interpolated
+// ground runs on into the box, and a cell there is known at the ground's
+// height, with a sigma of millimetres, though the box's top stands over its
+// centre. So a face cell (`face_noise`, row-major: the sigma of a cell
+// whose height is the middle of a band along a face, without the band;
+// NaN for the rest), whose height spans z +- sqrt(3) sigma, widens the
+// sigma of its neighbours across the line of sight from `sensor` whose
+// height lies farther from its middle than `noise_sigmas` of their
+// noise: the spread from the neighbour's height to the band's far end,
+// taken as uniform. Along the line of sight the ranges measure the face's
+// distance, and the band covers the cells within their noise of it.
+// Heights and states do not change. noise_sigmas <= 0: off.
+void widenSigmaBesideFaces(ElevationMap& map, const std::vector<float>& face_noise,
+                           const Eigen::Vector2d& sensor, double noise_sigmas);
 
 // The range beyond which noise k (sigma = k rho^2) could hide a gap of
 // options.max_gap_hidden_by_noise_m from the edge test, so that the map
