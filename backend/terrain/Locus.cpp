@@ -823,6 +823,13 @@ int roundedStep(double a, double b, int step) {
   return a < 0 ? -m : m;
 }
 
+// The neighbour (rows, columns) one step across a line of sight `along`
+// (the direction (-y, x)), rounded to a neighbour: shadows' sides and faces'
+// sides are taken across it.
+std::pair<int, int> stepAcross(const Eigen::Vector2d& along) {
+  return {roundedStep(along.x(), along.y(), 1), -roundedStep(along.y(), along.x(), 1)};
+}
+
 // A shadow's sides, where the occluder's silhouette ends and its range jump
 // fades below the edge test, are where interpolated heights meet unseen
 // ground: a known cell whose neighbour across the line of sight from
@@ -844,10 +851,8 @@ void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bo
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
       if (state(r, c) != float(CellState::kShadow)) continue;
-      // The line of sight, and the step across it (-y, x), rounded to neighbours.
       const Eigen::Vector2d along = g.cellCenter(r, c) - sensor;
-      const int dr = roundedStep(along.x(), along.y(), 1);
-      const int dc = -roundedStep(along.y(), along.x(), 1);
+      const auto [dr, dc] = stepAcross(along);
       makeOblique(r + dr, c + dc);
       makeOblique(r - dr, c - dc);
       if (!far_ends) continue;
@@ -874,9 +879,7 @@ void widenSigmaBesideFaces(ElevationMap& map, const std::vector<float>& face_noi
     const int r = int(i / std::size_t(g.cols)), c = int(i % std::size_t(g.cols));
     const double noise = faces[i];
     if (!map.hasHeight(r, c)) continue;
-    const Eigen::Vector2d along = g.cellCenter(r, c) - sensor;
-    const int dr = roundedStep(along.x(), along.y(), 1);
-    const int dc = -roundedStep(along.y(), along.x(), 1);
+    const auto [dr, dc] = stepAcross(g.cellCenter(r, c) - sensor);
     for (const int side : {1, -1}) {
       const int nr = r + side * dr, nc = c + side * dc;
       if (nr < 0 || nr >= g.rows || nc < 0 || nc >= g.cols || !map.hasHeight(nr, nc)) continue;
