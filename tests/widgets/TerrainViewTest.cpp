@@ -6,6 +6,7 @@
 #include <QSurfaceFormat>
 #include <QToolTip>
 #include <QtTest/QtTest>
+#include <cmath>
 #include <cstdlib>
 #include <vector>
 
@@ -63,6 +64,20 @@ ElevationMap risingWithX() {
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c)
       map.setHeight(r, c, CellState::kKnown, 0.05 * g.cellCenter(r, c).x(), 0.01);
+  return map;
+}
+
+// Known ground in a fan 60 degrees wide, 4-11 m ahead of the rover at the
+// origin (facing +y), as a walk's first scan leaves its map.
+ElevationMap scannedFan() {
+  ElevationMap map(GridSpec::covering({-10, -8, 10, 45}, 0.1));
+  const auto& g = map.grid();
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const auto p = g.cellCenter(r, c);
+      if (p.y() >= 4 && p.y() <= 11 && std::abs(p.x()) <= 0.5 * p.y())
+        map.setHeight(r, c, CellState::kKnown, 0.05 * p.x(), 0.01);
+    }
   return map;
 }
 
@@ -161,6 +176,40 @@ class TerrainViewTest : public QObject {
     QTest::mouseMove(view.view(), at + QPoint(40, 0));
     QTest::mouseRelease(view.view(), Qt::LeftButton, {}, at + QPoint(2, 0));
     QVERIFY(!picked.wait(500));
+  }
+
+  // The colour bar stands in the right fifth of the 3-D view; the camera
+  // behind the rover keeps the scanned ground left of it, and in view, in a
+  // square view, a 4:3 one and a wide one (a 1366 x 768 screen's view).
+  void theScannedGroundStaysLeftOfTheColourBar() {
+    const ElevationMap map = scannedFan();
+    for (const QSize size : {QSize(480, 480), QSize(640, 480), QSize(480, 340), QSize(800, 400)}) {
+      TerrainView view;
+      view.resize(size.width(), size.height() + 30);  // the check boxes below the view
+      view.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&view));
+      view.setMap(map);
+      view.setRover(RoverDisplay{}, {}, std::nullopt);
+      QTest::qWait(50);  // the rebuild is queued
+      view.view()->renderedImage();
+      const double bar_left = 0.80 * view.view()->width();
+      for (const double y : {4.0, 11.0})
+        for (const double side : {-1.0, 1.0}) {
+          const Eigen::Vector3d corner(side * 0.5 * y, y, 0.05 * side * 0.5 * y);
+          const auto shown = view.view()->widgetPointOf(corner);
+          QVERIFY(shown);
+          const QString where =
+              QString("view %1 x %2: corner (%3, %4) at x = %5 px, bar from %6 px")
+                  .arg(view.view()->width())
+                  .arg(view.view()->height())
+                  .arg(corner.x())
+                  .arg(corner.y())
+                  .arg(shown->x())
+                  .arg(bar_left);
+          QVERIFY2(shown->x() > 0 && shown->x() < bar_left, qPrintable(where));
+          QVERIFY2(shown->y() > 0 && shown->y() < view.view()->height(), qPrintable(where));
+        }
+    }
   }
 
   // Ground with no known height (a scene over a terrain model's no-data)
