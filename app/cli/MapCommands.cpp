@@ -104,6 +104,11 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "a smaller allowance [std. dev.] for pairs beside a grazing pair or an edge")
       ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
+  cmd.add_option("--grazing-weak-angle", edges.weak_grazing_deg,
+                 "beside a grazing pair or an edge, jumps steeper than a surface seen at this "
+                 "larger grazing angle are grazing too [deg]; at most --min-grazing: off")
+      ->check(CLI::Range(0.1, 45.0))
+      ->capture_default_str();
   cmd.add_option("--grazing-baseline", edges.grazing_baseline_rows,
                  "scanlines over which the range step is averaged for a second grazing test, "
                  "which noise cannot hide; 0: off")

@@ -22,6 +22,7 @@ enum Level : std::uint8_t { kContinuous, kWeakEdge, kEdge, kGrazing, kWeakGrazin
 // changes range at a similar rate on both sides.
 struct JumpTest {
   double inv_tan_grazing;
+  double inv_tan_weak_grazing;  // at most inv_tan_grazing
   double step_ratio;
   double noise_sigmas;
   double k;
@@ -38,7 +39,11 @@ struct JumpTest {
     if (jump > smooth + noise_sigmas * sigma) return kEdge;
     if (jump > smooth + weak_sigmas * sigma) return kWeakEdge;
     if (jump > grazing + grazing_sigmas * sigma) return kGrazing;
-    return jump > grazing + weak_grazing_sigmas * sigma ? kWeakGrazing : kContinuous;
+    const double weak_grazing = std::min(a, b) * separation * inv_tan_weak_grazing;
+    return jump > grazing + weak_grazing_sigmas * sigma ||
+                   jump > weak_grazing + grazing_sigmas * sigma
+               ? kWeakGrazing
+               : kContinuous;
   }
 };
 
@@ -46,7 +51,8 @@ struct JumpTest {
 // diagonals of the quad below and right of it.
 enum PairFlags : std::uint8_t { kRight = 1, kDown = 2, kDiagonal = 4, kAnti = 8 };
 
-// Throws std::invalid_argument naming the allowance out of order; returns
+// Throws std::invalid_argument naming the allowance out of order (or the
+// weak grazing angle out of range); returns
 // the weak edge allowance, at most the strong one.
 double checkedWeakSigmas(const OccludingEdgeOptions& options) {
   // An uncontinued weak jump counts as grazing, which is only right when it
@@ -61,6 +67,9 @@ double checkedWeakSigmas(const OccludingEdgeOptions& options) {
   requireAtMost(options.grazing_noise_sigmas, "grazing", weak_sigmas, "weak edge");
   requireAtMost(options.weak_grazing_noise_sigmas, "weak grazing", options.grazing_noise_sigmas,
                 "grazing");
+  if (!(options.weak_grazing_deg > 0 && options.weak_grazing_deg < 90))
+    throw std::invalid_argument("the weak grazing angle must lie between 0 and 90 degrees, not " +
+                                std::to_string(options.weak_grazing_deg));
   if (!(options.grazing_baseline_noise_sigmas >= 0))
     throw std::invalid_argument("the grazing baseline's noise allowance must be >= 0 sigma");
   if (options.grazing_baseline_rows < 0 || options.grazing_baseline_rows == 1)
@@ -126,7 +135,7 @@ class PairLevels {
     const double near = std::min(a, b);
     // Within the grazing bound the pair is continuous whatever the rest of
     // the test says: most pairs, decided without a neighbour or a root.
-    if (!(std::abs(a - b) > near * separation * jumps_.inv_tan_grazing)) return kContinuous;
+    if (!(std::abs(a - b) > near * separation * jumps_.inv_tan_weak_grazing)) return kContinuous;
     // The nearer pixel's neighbour on the side away from the other pixel.
     const int dr = r1 - r0, dc = c1 - c0;
     const int nr = a <= b ? r0 - dr : r1 + dr, nc = a <= b ? c0 - dc : c1 + dc;
@@ -151,7 +160,7 @@ class PairLevels {
   // vectorises, finds the few pairs beyond the grazing bound (less 0.1 %,
   // far more than single precision's error); only those get the test.
   void screen() {
-    const float bound = float(jumps_.inv_tan_grazing * 0.999);
+    const float bound = float(jumps_.inv_tan_weak_grazing * 0.999);
     std::vector<float> row_bound(cols_), diagonal_bound(cols_);
     for (int c = 0; c < cols_; ++c) {
       row_bound[c] = float(row_sep_[c]) * bound;
@@ -195,13 +204,16 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
       pixel_(std::size_t(rows_) * cols_, 0),
       quad_(std::size_t(std::max(rows_ - 1, 0)) * std::max(cols_ - 1, 0), 0) {
   const double weak_sigmas = checkedWeakSigmas(options);
-  const JumpTest jumps{1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0),
-                       options.step_ratio,
-                       options.noise_sigmas,
-                       image.range_sigma_k,
-                       weak_sigmas,
-                       options.grazing_noise_sigmas,
-                       options.weak_grazing_noise_sigmas};
+  const double inv_tan_grazing = 1.0 / std::tan(options.min_grazing_deg * M_PI / 180.0);
+  const JumpTest jumps{
+      inv_tan_grazing,
+      std::min(inv_tan_grazing, 1.0 / std::tan(options.weak_grazing_deg * M_PI / 180.0)),
+      options.step_ratio,
+      options.noise_sigmas,
+      image.range_sigma_k,
+      weak_sigmas,
+      options.grazing_noise_sigmas,
+      options.weak_grazing_noise_sigmas};
   if (cols_ == 0) return;
   const PairLevels levels(image, jumps);
   if (options.mark_grazing && options.grazing_baseline_rows > 0)

@@ -378,8 +378,10 @@ TEST(Locus, GroundSeenAtAGrazingAngleIsObliqueNotKnown) {
   LocusOptions grazing_oblique, grazing_known;
   grazing_oblique.edges.mark_grazing = true;
   grazing_known.edges.mark_grazing = false;
-  // The grazing rule's alone (shadow sides: KnownCellsAtAShadowsSidesBecomeOblique).
+  // The grazing rule's alone (shadow sides: KnownCellsAtAShadowsSidesBecomeOblique;
+  // the weak angle: OccludingEdges.AWeakGrazingAngleCountsBesideAGrazingPair).
   grazing_oblique.oblique_shadow_sides = grazing_known.oblique_shadow_sides = false;
+  grazing_oblique.edges.weak_grazing_deg = grazing_oblique.edges.min_grazing_deg;
   const auto map = buildLocusMap(image, grid, grazing_oblique);
   const auto filled = buildLocusMap(image, grid, grazing_known);
   int occluded = 0, occluded_known = 0, occluded_filled = 0, occluded_oblique = 0;
@@ -510,6 +512,7 @@ TEST(Locus, KnownCellsAtAShadowsSidesBecomeOblique) {
   // Undecided shadow is unknown after the sides are marked: the rule's alone.
   plain.undecided_before_shadow = sides.undecided_before_shadow = 0;
   plain.undecided_shadow_far_end = sides.undecided_shadow_far_end = 0;
+  plain.edges.weak_grazing_deg = sides.edges.weak_grazing_deg = plain.edges.min_grazing_deg;
   const auto before = buildLocusMap(image, grid, plain);
   const auto after = buildLocusMap(image, grid, sides);
   const int occluded_known_before = occludedKnown(before, truth);

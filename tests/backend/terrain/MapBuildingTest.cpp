@@ -106,6 +106,7 @@ TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
 
   OccludingEdgeOptions off;
   off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas;
+  off.weak_grazing_deg = off.min_grazing_deg;
   const OccludingEdges strict(image, off);
   const OccludingEdges edges(image);  // default: 1.5 sigma, or 0 beside a grazing pair
   EXPECT_EQ(edges.edgePixelCount(), 0);
@@ -117,6 +118,46 @@ TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
   }
   off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas + 0.5;
   EXPECT_THROW(OccludingEdges(image, off), std::invalid_argument);
+}
+
+// Rows 0..19 of `column` pushed away so that, without noise, the pair
+// across rows 19 and 20 is ground seen at `grazing_deg`.
+void seeRowPairAt(sensor::RangeImage& image, int column, double grazing_deg) {
+  const int cols = image.geometry.cols;
+  const double near = image.range[std::size_t(20) * cols + column];
+  const double separation =
+      std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
+  const double jump = near * separation / std::tan(grazing_deg * kDeg);
+  const float push = float(near + jump) - image.range[std::size_t(19) * cols + column];
+  for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * cols + column] += push;
+}
+
+// A swell's back slope seen just above the grazing bound (12 deg against
+// 10) is grazing beside a pair below the bound, with the weak angle at 13
+// deg (the default); alone, or with the weak angle off, it is continuous
+// ground.
+TEST(OccludingEdges, AWeakGrazingAngleCountsBesideAGrazingPair) {
+  auto image = flatGroundImage(64, 64);
+  for (int c = 24; c <= 40; ++c) seeRowPairAt(image, c, c == 32 ? 9.0 : 12.0);
+  for (int c = 50; c <= 54; ++c) seeRowPairAt(image, c, 12.0);
+
+  OccludingEdgeOptions options;
+  options.weak_grazing_deg = options.min_grazing_deg;
+  const OccludingEdges off(image, options);
+  const OccludingEdges edges(image);  // default: 13 deg beside a grazing pair
+  EXPECT_EQ(edges.edgePixelCount(), 0);
+  for (int c = 0; c < 63; ++c) {
+    EXPECT_EQ(off.quadIsGrazing(19, c), c == 31 || c == 32) << c;
+    EXPECT_EQ(edges.quadIsGrazing(19, c), c >= 30 && c <= 33) << c;
+    EXPECT_FALSE(edges.quadIsGrazing(10, c)) << c;
+  }
+  options.weak_grazing_deg = 11.0;  // 12 deg is no longer weak grazing
+  const OccludingEdges narrow(image, options);
+  for (int c = 0; c < 63; ++c) EXPECT_EQ(narrow.quadIsGrazing(19, c), c == 31 || c == 32) << c;
+  for (const double bad : {0.0, 90.0, double(NAN)}) {
+    options.weak_grazing_deg = bad;
+    EXPECT_THROW(OccludingEdges(image, options), std::invalid_argument) << bad;
+  }
 }
 
 // Ground whose range grows by `ratio` times the grazing bound from one
