@@ -51,9 +51,9 @@ struct JumpTest {
 // diagonals of the quad below and right of it.
 enum PairFlags : std::uint8_t { kRight = 1, kDown = 2, kDiagonal = 4, kAnti = 8 };
 
-// Throws std::invalid_argument naming the allowance out of order (or the
-// weak grazing angle out of range); returns
-// the weak edge allowance, at most the strong one.
+// Throws std::invalid_argument naming the allowance out of order, or the
+// weak grazing angle out of range; returns the weak edge allowance, at
+// most the strong one.
 double checkedWeakSigmas(const OccludingEdgeOptions& options) {
   // An uncontinued weak jump counts as grazing, which is only right when it
   // is beyond the grazing allowance too.
@@ -133,8 +133,9 @@ class PairLevels {
   Level test(int r0, int c0, int r1, int c1, double separation) const {
     const double a = rangeAt(r0, c0), b = rangeAt(r1, c1);
     const double near = std::min(a, b);
-    // Within the grazing bound the pair is continuous whatever the rest of
-    // the test says: most pairs, decided without a neighbour or a root.
+    // Within the weak grazing bound (the grazing bound's or nearer) the pair
+    // is continuous whatever the rest of the test says: most pairs, decided
+    // without a neighbour or a root.
     if (!(std::abs(a - b) > near * separation * jumps_.inv_tan_weak_grazing)) return kContinuous;
     // The nearer pixel's neighbour on the side away from the other pixel.
     const int dr = r1 - r0, dc = c1 - c0;
@@ -157,8 +158,9 @@ class PairLevels {
   }
 
   // Screening a row at a time in single precision, in loops the compiler
-  // vectorises, finds the few pairs beyond the grazing bound (less 0.1 %,
-  // far more than single precision's error); only those get the test.
+  // vectorises, finds the few pairs beyond the weak grazing bound (less
+  // 0.1 %, far more than single precision's error); only those get the
+  // test.
   void screen() {
     const float bound = float(jumps_.inv_tan_weak_grazing * 0.999);
     std::vector<float> row_bound(cols_), diagonal_bound(cols_);

@@ -36,11 +36,11 @@ struct OccludingEdgeOptions {
   // an edge, for ground seen obliquely runs along the image like an edge.
   // At most grazing_noise_sigmas; equal turns it off (docs/elevation-maps.md).
   double weak_grazing_noise_sigmas = 0.0;
-  // And a pair steeper than this larger grazing angle (beyond the grazing
-  // allowance) when such a neighbour continues it: a swell's back slope
-  // seen just above min_grazing_deg beside where it falls below hides dips
-  // between its samples. At most min_grazing_deg turns it off
-  // (docs/elevation-maps.md).
+  // And a pair whose jump is steeper than ground seen at this larger
+  // grazing angle (beyond the grazing allowance), when such a neighbour
+  // continues it: a swell's back slope seen just above min_grazing_deg,
+  // beside where it falls below, hides dips between its samples. At most
+  // min_grazing_deg turns it off (docs/elevation-maps.md).
   double weak_grazing_deg = 13.0;
   // Under heavy noise one pair cannot tell ground seen just beyond the
   // grazing bound from noise, and such ground stays known, though relief

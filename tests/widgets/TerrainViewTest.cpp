@@ -67,7 +67,7 @@ ElevationMap risingWithX() {
   return map;
 }
 
-// Known ground in a fan 60 degrees wide, 4-11 m ahead of the rover at the
+// Known ground in a fan 53 degrees wide, 4-11 m ahead of the rover at the
 // origin (facing +y), as a walk's first scan leaves its map.
 ElevationMap scannedFan() {
   ElevationMap map(GridSpec::covering({-10, -8, 10, 45}, 0.1));
