@@ -167,7 +167,7 @@ vtkSmartPointer<vtkScalarBarActor> makeColorBar(vtkLookupTable* table, const std
   bar->SetMaximumWidthInPixels(int(90 * pixel_ratio));
   // Far enough from the right edge that the centred title is not clipped
   // in narrow views.
-  bar->SetPosition(0.80, 0.1);
+  bar->SetPosition(kColorBarLeft, 0.1);
   bar->SetPosition2(0.17, 0.8);
   bar->GetTitleTextProperty()->SetFontSize(int(14 * pixel_ratio));
   bar->GetTitleTextProperty()->ItalicOff();

@@ -42,6 +42,10 @@ vtkSmartPointer<vtkActor> makePolylines(const std::vector<std::vector<Eigen::Vec
 vtkSmartPointer<vtkActor> makeSphere(const Eigen::Vector3d& centre, double radius,
                                      const Eigen::Vector3d& rgb);
 
+// Where makeColorBar()'s bar begins, as a share of the view's width from
+// its left edge: a scene drawn right of it runs under the bar.
+inline constexpr double kColorBarLeft = 0.80;
+
 // A vertical colour bar for `table` whose title carries the unit, e.g.
 // "Elevation [m]" (a "\n" breaks a long one); `pixel_ratio` is the
 // screen's device pixels per logical pixel, so the bar keeps its size on

@@ -393,7 +393,8 @@ void TerrainView::placeCamera(const Eigen::Vector3d& sensor, const Eigen::Vector
     camera->SetPosition(eye.x(), eye.y(), eye.z());
     camera->SetFocalPoint(target.x(), target.y(), target.z());
     camera->SetViewUp(0, 0, 1);
-    // The colour bar takes the right fifth of the view. A wide scene seen
+    // The colour bar takes the right fifth of the view (from
+    // rendering::kColorBarLeft). A wide scene seen
     // from behind: its share of the width is the same in any view when the
     // view angle is horizontal, and with its middle moved left by a
     // twentieth of the width it ends short of the bar.

@@ -67,6 +67,7 @@ struct GridSpec {
     return {origin_x, origin_y, origin_x + cols * resolution, origin_y + rows * resolution};
   }
   int cellCount() const { return rows * cols; }
+  bool hasCell(int r, int c) const { return r >= 0 && r < rows && c >= 0 && c < cols; }
   int index(int r, int c) const { return r * cols + c; }
   // The cell containing (x, y), if any; cells own their lower edges.
   std::optional<Cell> cellAt(double x, double y) const {

@@ -30,7 +30,7 @@ bool clearOfUnseen(const terrain::ElevationMap& map, int row, int col, int clear
   const GridSpec& g = map.grid();
   for (int r = row - clearance; r <= row + clearance; ++r)
     for (int c = col - clearance; c <= col + clearance; ++c)
-      if (r < 0 || r >= g.rows || c < 0 || c >= g.cols || !map.isKnown(r, c)) return false;
+      if (!g.hasCell(r, c) || !map.isKnown(r, c)) return false;
   return true;
 }
 
@@ -50,7 +50,7 @@ Window extractWindow(const terrain::ElevationMap& map, const CandidateCells& cel
   for (int r = 0; r < w.rows; ++r)
     for (int c = 0; c < w.cols; ++c) {
       const int mr = cells.first_row - radius + r, mc = cells.first_col - radius + c;
-      if (mr < 0 || mr >= g.rows || mc < 0 || mc >= g.cols || !map.isKnown(mr, mc)) continue;
+      if (!g.hasCell(mr, mc) || !map.isKnown(mr, mc)) continue;
       const int i = w.index(r, c);
       w.known[i] = 1;
       w.clear[i] = clearance == 0 || clearOfUnseen(map, mr, mc, clearance);

@@ -842,7 +842,7 @@ void markShadowSidesOblique(ElevationMap& map, const Eigen::Vector2d& sensor, bo
   // Read as it changes: only known cells change, and only to oblique.
   const Layer& state = map.layer(layer::kState);
   auto makeOblique = [&](int r, int c) {
-    if (r >= 0 && r < g.rows && c >= 0 && c < g.cols && state(r, c) == float(CellState::kKnown))
+    if (g.hasCell(r, c) && state(r, c) == float(CellState::kKnown))
       map.setHeight(r, c, CellState::kOblique, map.elevation(r, c), map.sigma(r, c),
                     map.count(r, c));
   };
@@ -882,7 +882,7 @@ void widenSigmaBesideFaces(ElevationMap& map, const std::vector<float>& face_noi
     const auto [dr, dc] = stepAcross(g.cellCenter(r, c) - sensor);
     for (const int side : {1, -1}) {
       const int nr = r + side * dr, nc = c + side * dc;
-      if (nr < 0 || nr >= g.rows || nc < 0 || nc >= g.cols || !map.hasHeight(nr, nc)) continue;
+      if (!g.hasCell(nr, nc) || !map.hasHeight(nr, nc)) continue;
       // A face rises from the neighbour's height (or falls to it): the
       // band's middle lies beyond the noise of both. Far ground under
       // heavy noise makes bands about the ground's height too, no face.

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "rendering/SceneBuilders.h"
 #include "rendering/VtkView.h"
 #include "widgets/TerrainView.h"
 
@@ -192,7 +193,7 @@ class TerrainViewTest : public QObject {
       view.setRover(RoverDisplay{}, {}, std::nullopt);
       QTest::qWait(50);  // the rebuild is queued
       view.view()->renderedImage();
-      const double bar_left = 0.80 * view.view()->width();
+      const double bar_left = ambler::rendering::kColorBarLeft * view.view()->width();
       for (const double y : {4.0, 11.0})
         for (const double side : {-1.0, 1.0}) {
           const Eigen::Vector3d corner(side * 0.5 * y, y, 0.05 * side * 0.5 * y);

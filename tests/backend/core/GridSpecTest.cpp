@@ -9,6 +9,19 @@ namespace {
 
 const Box2 kBox{-2.0, 1.0, 4.0, 5.0};
 
+// Rows and columns from 0 to one short of the count, and nothing beyond.
+TEST(GridSpecHasCell, OnlyTheGridsOwnRowsAndColumns) {
+  GridSpec g;
+  g.rows = 3;
+  g.cols = 5;
+  EXPECT_TRUE(g.hasCell(0, 0));
+  EXPECT_TRUE(g.hasCell(2, 4));
+  EXPECT_FALSE(g.hasCell(-1, 0));
+  EXPECT_FALSE(g.hasCell(0, -1));
+  EXPECT_FALSE(g.hasCell(3, 0));
+  EXPECT_FALSE(g.hasCell(0, 5));
+}
+
 TEST(Box2LineInterval, FromInsideItEndsAtTheEdgeAhead) {
   const auto east = kBox.lineInterval({1.0, 3.0}, {1.0, 0.0}, INFINITY);
   ASSERT_TRUE(east);
