@@ -327,6 +327,7 @@ nlohmann::json evalElevation(const EvalElevationArgs& a) {
       {"grazing_noise_sigmas", a.locus.edges.grazing_noise_sigmas},
       {"grazing_weak_noise_sigmas", a.locus.edges.weak_grazing_noise_sigmas},
       {"grazing_weak_angle_deg", a.locus.edges.weak_grazing_deg},
+      {"grazing_concave_turn_deg", a.locus.edges.concave_turn_deg},
       {"grazing_baseline_rows", a.locus.edges.grazing_baseline_rows},
       {"grazing_baseline_noise_sigmas", a.locus.edges.grazing_baseline_noise_sigmas},
       {"max_sample_spacing_m", a.locus.max_sample_spacing_m},

@@ -109,6 +109,11 @@ void addLocusOptions(CLI::App& cmd, terrain::LocusOptions& locus) {
                  "larger grazing angle are grazing too [deg]; at most --min-grazing: off")
       ->check(CLI::Range(0.1, 45.0))
       ->capture_default_str();
+  cmd.add_option("--grazing-concave-turn", edges.concave_turn_deg,
+                 "and so are such jumps whose next pair farther along the column is seen this "
+                 "much more steeply, beyond the grazing noise allowance [deg]; 0: off")
+      ->check(CLI::Range(0.0, 45.0))
+      ->capture_default_str();
   cmd.add_option("--grazing-baseline", edges.grazing_baseline_rows,
                  "scanlines over which the range step is averaged for a second grazing test, "
                  "which noise cannot hide; 0: off")

@@ -70,6 +70,9 @@ double checkedWeakSigmas(const OccludingEdgeOptions& options) {
   if (!(options.weak_grazing_deg > 0 && options.weak_grazing_deg < 90))
     throw std::invalid_argument("the weak grazing angle must lie between 0 and 90 degrees, not " +
                                 std::to_string(options.weak_grazing_deg));
+  if (!(options.concave_turn_deg >= 0 && options.concave_turn_deg < 90))
+    throw std::invalid_argument("the concave turn must lie between 0 (off) and 90 degrees, not " +
+                                std::to_string(options.concave_turn_deg));
   if (!(options.grazing_baseline_noise_sigmas >= 0))
     throw std::invalid_argument("the grazing baseline's noise allowance must be >= 0 sigma");
   if (options.grazing_baseline_rows < 0 || options.grazing_baseline_rows == 1)
@@ -112,6 +115,27 @@ class PairLevels {
   Level at(int r, int c, int kind) const {
     if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return kContinuous;
     return Level((level_[std::size_t(r) * cols_ + c] >> (3 * kind)) & 7);
+  }
+  // The pair across scanlines (r, r + 1) at column c, seen under the weak
+  // grazing angle beyond `sigmas` of its noise, against the next such pair
+  // farther from the sensor: whether that one is seen more steeply by the
+  // turn (`tan_turn` its tangent), beyond `sigmas` of its jump's noise (a
+  // steeper pair has the smaller jump). NaN (no return) is no turn.
+  bool turnsBackBeyond(int r, int c, double tan_turn, double sigmas) const {
+    const double a = rangeAt(r, c), b = rangeAt(r + 1, c);
+    const double weak = std::min(a, b) * row_sep_[c] * jumps_.inv_tan_weak_grazing;
+    if (!(std::abs(a - b) > weak + sigmas * jumps_.k * std::sqrt(a * a * a * a + b * b * b * b)))
+      return false;
+    const int f = a > b ? r - 1 : r + 1;  // the farther pair is (f, f + 1)
+    if (f < 0 || f + 1 >= rows_) return false;
+    const double x = rangeAt(f, c), y = rangeAt(f + 1, c);
+    // 1 / tan(seen + turn) from tan(seen) = near * separation / jump; none
+    // steeper exists when seen + turn reaches 90 degrees.
+    const double tan_seen = std::min(a, b) * row_sep_[c] / std::abs(a - b);
+    const double cot_turned = (1 - tan_seen * tan_turn) / (tan_seen + tan_turn);
+    const double steeper_jump = std::min(x, y) * row_sep_[c] * cot_turned;
+    const double sigma = jumps_.k * std::sqrt(x * x * x * x + y * y * y * y);
+    return std::abs(x - y) + sigmas * sigma < steeper_jump;
   }
   // A weak level is kept when what it is continues: a pair of the same
   // kind beside it along the run (across rows for a row pair, along columns
@@ -224,6 +248,12 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
                          options.grazing_noise_sigmas);
   auto isEdge = [](Level l) { return l == kWeakEdge || l == kEdge; };
   auto isEdgeOrGrazing = [](Level l) { return l == kWeakEdge || l == kEdge || l == kGrazing; };
+  const double tan_turn = std::tan(options.concave_turn_deg * M_PI / 180.0);
+  auto weakGrazingCounts = [&](int r, int c, int kind) {
+    return levels.continued(r, c, kind, isEdgeOrGrazing) ||
+           (kind == 1 && tan_turn > 0 &&
+            levels.turnsBackBeyond(r, c, tan_turn, options.grazing_noise_sigmas));
+  };
   for (int r = 0; r < rows_; ++r)
     for (int c = 0; c < cols_; ++c) {
       if (!levels.any(r, c)) continue;
@@ -232,8 +262,7 @@ OccludingEdges::OccludingEdges(const sensor::RangeImage& image, const OccludingE
         if (l == kContinuous) continue;
         if (l == kGrazing || l == kWeakGrazing ||
             (l == kWeakEdge && !levels.continued(r, c, kind, isEdge))) {
-          if (options.mark_grazing &&
-              (l != kWeakGrazing || levels.continued(r, c, kind, isEdgeOrGrazing)))
+          if (options.mark_grazing && (l != kWeakGrazing || weakGrazingCounts(r, c, kind)))
             markQuadsOfPair(r, c, kind, kGrazingQuad);
           continue;
         }

@@ -42,6 +42,13 @@ struct OccludingEdgeOptions {
   // beside where it falls below, hides dips between its samples. At most
   // min_grazing_deg turns it off (docs/elevation-maps.md).
   double weak_grazing_deg = 13.0;
+  // And a pair seen under weak_grazing_deg (beyond the grazing allowance)
+  // whose next pair farther along its image column is seen this much more
+  // steeply, beyond the grazing allowance of that pair's noise: the ground
+  // turns back toward the sensor behind a receding stretch, the pocket
+  // behind a swell's back. Pairs across scanlines only, whose column runs
+  // along the line of sight. 0 turns it off (docs/elevation-maps.md).
+  double concave_turn_deg = 4.0;
   // Under heavy noise one pair cannot tell ground seen just beyond the
   // grazing bound from noise, and such ground stays known, though relief
   // hides parts of it. The range step averaged over this many scanlines

@@ -104,11 +104,15 @@ TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
   for (int c = 24; c <= 40; ++c) pushBeyondTheGrazingBound(image, c, c == 32 ? 1.75 : 0.75);
   for (int c = 50; c <= 54; ++c) pushBeyondTheGrazingBound(image, c, 0.75);
 
-  OccludingEdgeOptions off;
+  // The step behind each pushed column is a pocket whose far side faces
+  // the sensor: the concave turn's rule, off here, would find each alone.
+  OccludingEdgeOptions defaults;
+  defaults.concave_turn_deg = 0.0;
+  OccludingEdgeOptions off = defaults;
   off.weak_grazing_noise_sigmas = off.grazing_noise_sigmas;
   off.weak_grazing_deg = off.min_grazing_deg;
   const OccludingEdges strict(image, off);
-  const OccludingEdges edges(image);  // default: 1.5 sigma, or 0 beside a grazing pair
+  const OccludingEdges edges(image, defaults);  // 1.5 sigma, or 0 beside a grazing pair
   EXPECT_EQ(edges.edgePixelCount(), 0);
   for (int c = 0; c < 63; ++c) {
     // A row pair marks the quads left and right of it.
@@ -141,10 +145,12 @@ TEST(OccludingEdges, AWeakGrazingAngleCountsBesideAGrazingPair) {
   for (int c = 24; c <= 40; ++c) seeRowPairAt(image, c, c == 32 ? 9.0 : 12.0);
   for (int c = 50; c <= 54; ++c) seeRowPairAt(image, c, 12.0);
 
-  OccludingEdgeOptions options;
+  OccludingEdgeOptions beside;  // the concave turn's rule, measured alone below, off
+  beside.concave_turn_deg = 0.0;
+  OccludingEdgeOptions options = beside;
   options.weak_grazing_deg = options.min_grazing_deg;
   const OccludingEdges off(image, options);
-  const OccludingEdges edges(image);  // default: 13 deg beside a grazing pair
+  const OccludingEdges edges(image, beside);  // 13 deg beside a grazing pair
   EXPECT_EQ(edges.edgePixelCount(), 0);
   for (int c = 0; c < 63; ++c) {
     EXPECT_EQ(off.quadIsGrazing(19, c), c == 31 || c == 32) << c;
@@ -156,6 +162,61 @@ TEST(OccludingEdges, AWeakGrazingAngleCountsBesideAGrazingPair) {
   for (int c = 0; c < 63; ++c) EXPECT_EQ(narrow.quadIsGrazing(19, c), c == 31 || c == 32) << c;
   for (const double bad : {0.0, 90.0, double(NAN)}) {
     options.weak_grazing_deg = bad;
+    EXPECT_THROW(OccludingEdges(image, options), std::invalid_argument) << bad;
+  }
+}
+
+// Rows 0..19 of `column` pushed away as by seeRowPairAt(), and rows 0..18
+// further, so that the next pair farther out, across rows 18 and 19, is
+// ground seen at `far_deg`.
+void seeRowPairsAt(sensor::RangeImage& image, int column, double near_deg, double far_deg) {
+  seeRowPairAt(image, column, near_deg);
+  const int cols = image.geometry.cols;
+  const double near = image.range[std::size_t(19) * cols + column];
+  const double separation =
+      std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
+  const double jump = near * separation / std::tan(far_deg * kDeg);
+  const float push = float(near + jump) - image.range[std::size_t(18) * cols + column];
+  for (int r = 0; r < 19; ++r) image.range[std::size_t(r) * cols + column] += push;
+}
+
+// A pair seen at 12 deg (under the weak angle of 13) whose next pair
+// farther out is seen at 20 deg is grazing alone: the ground turns back
+// toward the sensor behind it by 8 deg, more than the 4 of the default.
+// By 2 deg it is not, nor with the rule off; under noise, a turn of 4.2
+// deg is grazing only while it stands beyond the allowance.
+TEST(OccludingEdges, AConcaveTurnBehindAWeakGrazingPairMakesItGrazing) {
+  auto image = flatGroundImage(64, 64);
+  for (int c = 10; c <= 14; ++c) seeRowPairsAt(image, c, 12.0, 20.0);
+  for (int c = 30; c <= 34; ++c) seeRowPairsAt(image, c, 12.0, 14.0);
+  for (int c = 50; c <= 54; ++c) seeRowPairsAt(image, c, 12.0, 16.2);
+
+  const OccludingEdges edges(image);
+  OccludingEdgeOptions options;
+  options.concave_turn_deg = 0.0;
+  const OccludingEdges off(image, options);
+  EXPECT_EQ(edges.edgePixelCount(), 0);
+  for (int c = 0; c < 63; ++c) {
+    // A row pair marks the quads left and right of it.
+    EXPECT_EQ(edges.quadIsGrazing(19, c), (c >= 9 && c <= 14) || (c >= 49 && c <= 54)) << c;
+    EXPECT_FALSE(off.quadIsGrazing(19, c)) << c;
+    EXPECT_FALSE(edges.quadIsGrazing(18, c)) << c;  // 20 deg: no grazing ground
+  }
+
+  // Noise whose allowance (1.5 sigma) is a quarter of the 12 deg pair's
+  // margin under the weak angle: that pair stays weak grazing, the 8 deg
+  // turn stands beyond the noise, the 4.2 deg one does not.
+  const int cols = image.geometry.cols;
+  const double a = image.range[std::size_t(20) * cols + 52];
+  const double b = image.range[std::size_t(19) * cols + 52];
+  const double separation = std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(52));
+  const double margin = a * separation * (1 / std::tan(12 * kDeg) - 1 / std::tan(13 * kDeg));
+  image.range_sigma_k = 0.25 * margin / (1.5 * std::sqrt(std::pow(a, 4) + std::pow(b, 4)));
+  const OccludingEdges noisy(image);
+  for (int c = 0; c < 63; ++c) EXPECT_EQ(noisy.quadIsGrazing(19, c), c >= 9 && c <= 14) << c;
+
+  for (const double bad : {-1.0, 90.0, double(NAN)}) {
+    options.concave_turn_deg = bad;
     EXPECT_THROW(OccludingEdges(image, options), std::invalid_argument) << bad;
   }
 }
