@@ -31,8 +31,13 @@ struct JumpTest {
   double grazing_sigmas;
   double weak_grazing_sigmas;  // at most grazing_sigmas
 
+  // Std. dev. of the jump between two ranges, each with noise k rho^2.
+  double jumpSigma(double a, double b) const {
+    return k * std::sqrt(a * a * a * a + b * b * b * b);
+  }
+
   Level operator()(double a, double b, double separation, double near_slope) const {
-    const double sigma = k * std::sqrt(a * a * a * a + b * b * b * b);
+    const double sigma = jumpSigma(a, b);
     const double grazing = std::min(a, b) * separation * inv_tan_grazing;
     const double smooth = std::max(grazing, step_ratio * near_slope);
     const double jump = std::abs(a - b);
@@ -124,8 +129,7 @@ class PairLevels {
   bool turnsBackBeyond(int r, int c, double tan_turn, double sigmas) const {
     const double a = rangeAt(r, c), b = rangeAt(r + 1, c);
     const double weak = std::min(a, b) * row_sep_[c] * jumps_.inv_tan_weak_grazing;
-    if (!(std::abs(a - b) > weak + sigmas * jumps_.k * std::sqrt(a * a * a * a + b * b * b * b)))
-      return false;
+    if (!(std::abs(a - b) > weak + sigmas * jumps_.jumpSigma(a, b))) return false;
     const int f = a > b ? r - 1 : r + 1;  // the farther pair is (f, f + 1)
     if (f < 0 || f + 1 >= rows_) return false;
     const double x = rangeAt(f, c), y = rangeAt(f + 1, c);
@@ -134,8 +138,7 @@ class PairLevels {
     const double tan_seen = std::min(a, b) * row_sep_[c] / std::abs(a - b);
     const double cot_turned = (1 - tan_seen * tan_turn) / (tan_seen + tan_turn);
     const double steeper_jump = std::min(x, y) * row_sep_[c] * cot_turned;
-    const double sigma = jumps_.k * std::sqrt(x * x * x * x + y * y * y * y);
-    return std::abs(x - y) + sigmas * sigma < steeper_jump;
+    return std::abs(x - y) + sigmas * jumps_.jumpSigma(x, y) < steeper_jump;
   }
   // A weak level is kept when what it is continues: a pair of the same
   // kind beside it along the run (across rows for a row pair, along columns

@@ -124,16 +124,22 @@ TEST(OccludingEdges, HysteresisKeepsWeakGrazingPairsBesideAGrazingOne) {
   EXPECT_THROW(OccludingEdges(image, off), std::invalid_argument);
 }
 
-// Rows 0..19 of `column` pushed away so that, without noise, the pair
-// across rows 19 and 20 is ground seen at `grazing_deg`.
-void seeRowPairAt(sensor::RangeImage& image, int column, double grazing_deg) {
+// Rows 0..near_row - 1 of `column` pushed away so that, without noise, the
+// pair across rows near_row - 1 and near_row is ground seen at `grazing_deg`.
+void seeRowPairAbove(sensor::RangeImage& image, int column, int near_row, double grazing_deg) {
   const int cols = image.geometry.cols;
-  const double near = image.range[std::size_t(20) * cols + column];
+  const double near = image.range[std::size_t(near_row) * cols + column];
   const double separation =
       std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
   const double jump = near * separation / std::tan(grazing_deg * kDeg);
-  const float push = float(near + jump) - image.range[std::size_t(19) * cols + column];
-  for (int r = 0; r < 20; ++r) image.range[std::size_t(r) * cols + column] += push;
+  const float push = float(near + jump) - image.range[std::size_t(near_row - 1) * cols + column];
+  for (int r = 0; r < near_row; ++r) image.range[std::size_t(r) * cols + column] += push;
+}
+
+// Rows 0..19 of `column` pushed away so that, without noise, the pair
+// across rows 19 and 20 is ground seen at `grazing_deg`.
+void seeRowPairAt(sensor::RangeImage& image, int column, double grazing_deg) {
+  seeRowPairAbove(image, column, 20, grazing_deg);
 }
 
 // A swell's back slope seen just above the grazing bound (12 deg against
@@ -171,13 +177,7 @@ TEST(OccludingEdges, AWeakGrazingAngleCountsBesideAGrazingPair) {
 // ground seen at `far_deg`.
 void seeRowPairsAt(sensor::RangeImage& image, int column, double near_deg, double far_deg) {
   seeRowPairAt(image, column, near_deg);
-  const int cols = image.geometry.cols;
-  const double near = image.range[std::size_t(19) * cols + column];
-  const double separation =
-      std::abs(image.geometry.phi_step) * std::cos(image.geometry.theta(column));
-  const double jump = near * separation / std::tan(far_deg * kDeg);
-  const float push = float(near + jump) - image.range[std::size_t(18) * cols + column];
-  for (int r = 0; r < 19; ++r) image.range[std::size_t(r) * cols + column] += push;
+  seeRowPairAbove(image, column, 19, far_deg);
 }
 
 // A pair seen at 12 deg (under the weak angle of 13) whose next pair
